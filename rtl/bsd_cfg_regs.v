@@ -1,0 +1,44 @@
+`default_nettype none
+// Per-pin DIGCFG bits 4:0 and output latches. Pins in FIXED_MASK hold
+// FIXED_CFG and ignore configuration writes (their output latch stays writable).
+module bsd_cfg_regs #(
+    parameter integer               NUM_PINS   = 5,
+    parameter [NUM_PINS-1:0]        FIXED_MASK = 0,
+    parameter [8*NUM_PINS-1:0]      FIXED_CFG  = 0
+) (
+    input  wire                  clk,
+    input  wire                  rst,
+    input  wire                  cfg_we_i,
+    input  wire                  out_we_i,
+    input  wire [5:0]            pin_i,
+    input  wire [4:0]            cfg_i,
+    input  wire                  out_i,
+    output wire [5*NUM_PINS-1:0] cfg_o,
+    output wire [NUM_PINS-1:0]   out_o
+);
+    localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
+
+    genvar p;
+    generate
+        for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
+            reg out_q;
+            always @(posedge clk) begin
+                if (out_we_i && pin_i == p) out_q <= out_i;
+                if (rst) out_q <= 1'b0;
+            end
+            assign out_o[p] = out_q;
+
+            if (FIXED_MASK[p]) begin : g_fixed
+                assign cfg_o[5*p +: 5] = FIXED_CFG[8*p +: 5];
+            end else begin : g_free
+                reg [4:0] cfg_q;
+                always @(posedge clk) begin
+                    if (cfg_we_i && pin_i == p) cfg_q <= cfg_i;
+                    if (rst) cfg_q <= CFG_RESET;
+                end
+                assign cfg_o[5*p +: 5] = cfg_q;
+            end
+        end
+    endgenerate
+endmodule
+`default_nettype wire

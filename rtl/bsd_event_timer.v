@@ -1,0 +1,82 @@
+`default_nettype none
+// One pin's logic event timer (cmdPTIME_RD).
+// Edge mode counts ticks from the start until the pin goes non-target ->
+// target; width mode waits for that edge, then counts until the pin returns
+// to non-target. Counts are the tick strobes after the reference clock up to
+// and including the completing clock. 65 535 ticks after the start without
+// completion is a timeout, reported as 0; a completed result is at least 1.
+// The result is held, and the timer stays busy, until every requested
+// delivery (host packet, RFLX strobe) is done.
+module bsd_event_timer (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        tick_i,
+    input  wire        level_i,      // synchronized pad level, sampled every clock
+    input  wire        start_i,
+    input  wire        mode_i,       // TMODE: 0 edge, 1 width
+    input  wire        target_i,     // TSTATE
+    input  wire        host_i,       // send the result as cmdDEV_VAL
+    input  wire        rflx_i,       // strobe the result on rflx_*
+    input  wire        host_done_i,  // the result's packet has left
+    input  wire        rflx_done_i,  // the result's RFLX strobe is given
+    output wire        busy_o,
+    output reg         host_req_o,
+    output reg         rflx_req_o,
+    output reg  [15:0] result_o
+);
+    localparam [15:0] TIMEOUT_TICKS = 16'hFFFF;
+
+    reg        running_q;
+    reg        mode_q;
+    reg        target_q;
+    reg        host_q;
+    reg        rflx_q;
+    reg        prev_q;
+    reg        in_pulse_q;    // width mode: the target level has begun
+    reg [15:0] elapsed_q;     // ticks since the start, for the timeout
+    reg [15:0] count_q;       // ticks of the measured interval
+
+    wire        to_target   = (prev_q != target_q) && (level_i == target_q);
+    wire        from_target = (prev_q == target_q) && (level_i != target_q);
+    wire [15:0] elapsed_d   = elapsed_q + {15'd0, tick_i};
+    wire [15:0] count_d     = count_q + {15'd0, tick_i};
+    wire        complete    = mode_q ? (in_pulse_q && from_target) : to_target;
+    wire        timeout     = (elapsed_d == TIMEOUT_TICKS);
+    wire        pulse_begin = mode_q && !in_pulse_q && to_target;
+
+    assign busy_o = running_q || host_req_o || rflx_req_o;
+
+    always @(posedge clk) begin
+        if (start_i && !busy_o) begin
+            running_q  <= 1'b1;
+            mode_q     <= mode_i;
+            target_q   <= target_i;
+            host_q     <= host_i;
+            rflx_q     <= rflx_i;
+            prev_q     <= level_i;
+            in_pulse_q <= 1'b0;
+            elapsed_q  <= 16'd0;
+            count_q    <= 16'd0;
+        end else if (running_q) begin
+            prev_q    <= level_i;
+            elapsed_q <= elapsed_d;
+            count_q   <= pulse_begin ? 16'd0 : count_d;
+            if (pulse_begin) in_pulse_q <= 1'b1;
+            if (complete || timeout) begin
+                running_q  <= 1'b0;
+                host_req_o <= host_q;
+                rflx_req_o <= rflx_q;
+                result_o   <= !complete ? 16'd0 : (count_d == 16'd0) ? 16'd1 : count_d;
+            end
+        end
+        if (host_done_i) host_req_o <= 1'b0;
+        if (rflx_done_i) rflx_req_o <= 1'b0;
+        if (rst) begin
+            running_q  <= 1'b0;
+            host_req_o <= 1'b0;
+            rflx_req_o <= 1'b0;
+            result_o   <= 16'd0;
+        end
+    end
+endmodule
+`default_nettype wire

@@ -1,0 +1,63 @@
+`default_nettype none
+// cmdHB: queues an UP/DOWN heartbeat (alternately) every HB_RATE x 25.6 ms
+// and tracks the host's answers. link_up rises on an answer to the latest
+// heartbeat and falls when a heartbeat falls due while the previous one is
+// unanswered (or not even sent: that due heartbeat is then skipped).
+module bsd_heartbeat #(
+    parameter integer HB_RATE = 0
+) (
+    input  wire       clk,
+    input  wire       rst,
+    input  wire       tick_i,
+    input  wire       answer_i,    // a host cmdHB packet with N >= 2
+    input  wire [7:0] answer_type_i,
+    output reg        req_o,       // a heartbeat packet waits to be sent
+    output wire [7:0] type_o,      // its type byte
+    input  wire       done_i,      // it has left
+    output reg        link_up_o
+);
+    `include "bsd_protocol.vh"
+
+    // HB_RATE = 0: no heartbeat ever falls due, so link_up stays 0.
+    localparam integer PERIOD = (HB_RATE == 0 ? 1 : HB_RATE) * HB_UNIT_TICKS;
+    localparam integer W      = $clog2(PERIOD);
+
+    reg [W-1:0] ticks_q;
+    reg         down_q;      // type of the latest heartbeat: 0 UP, 1 DOWN
+    reg         queued_q;    // a heartbeat has been queued since reset
+    reg         answered_q;  // the latest one is answered
+
+    wire due      = (HB_RATE != 0) && tick_i && ticks_q == PERIOD[W-1:0] - 1'b1;
+    wire answer   = answer_i && queued_q &&
+                    answer_type_i == {7'd0, down_q} + HB_ANSWER_OFFSET;
+    wire answered = answered_q || answer;
+
+    assign type_o = {7'd0, down_q};
+
+    always @(posedge clk) begin
+        if (tick_i) ticks_q <= due ? {W{1'b0}} : ticks_q + 1'b1;
+        if (done_i) req_o <= 1'b0;
+        if (answer) begin
+            answered_q <= 1'b1;
+            link_up_o  <= 1'b1;
+        end
+        if (due) begin
+            if (!answered || req_o) link_up_o <= 1'b0;
+            if (!req_o) begin
+                req_o      <= 1'b1;
+                down_q     <= queued_q ? !down_q : 1'b0;
+                queued_q   <= 1'b1;
+                answered_q <= 1'b0;
+            end
+        end
+        if (rst) begin
+            ticks_q    <= {W{1'b0}};
+            req_o      <= 1'b0;
+            down_q     <= 1'b0;
+            queued_q   <= 1'b0;
+            answered_q <= 1'b0;
+            link_up_o  <= 1'b0;
+        end
+    end
+endmodule
+`default_nettype wire

@@ -1,0 +1,58 @@
+`default_nettype none
+// RFLX strobes: every clock, the waiting value with the lowest device ID is
+// strobed on rflx_* (registered), and its source is told at once. Timer
+// device IDs rise with the pin, so the lowest waiting timer is the lowest pin.
+module bsd_rflx_arb #(
+    parameter integer NUM_PINS      = 5,
+    parameter integer TIMER_ID_BASE = 10
+) (
+    input  wire                   clk,
+    input  wire                   rst,
+    input  wire                   dio_req_i,
+    input  wire [5:0]             dio_id_i,
+    input  wire                   dio_val_i,
+    output wire                   dio_done_o,
+    input  wire [NUM_PINS-1:0]    timer_req_i,
+    input  wire [16*NUM_PINS-1:0] timer_result_i,
+    output reg  [NUM_PINS-1:0]    timer_done_o,
+    output reg                    rflx_valid,
+    output reg  [5:0]             rflx_id,
+    output reg  [15:0]            rflx_data
+);
+    reg        t_any;
+    reg [5:0]  t_id;
+    reg [15:0] t_result;
+    reg [NUM_PINS-1:0] t_onehot;
+    integer p;
+    always @* begin
+        t_any    = 1'b0;
+        t_id     = 6'd0;
+        t_result = 16'd0;
+        t_onehot = {NUM_PINS{1'b0}};
+        for (p = NUM_PINS - 1; p >= 0; p = p - 1) begin
+            if (timer_req_i[p]) begin
+                t_any    = 1'b1;
+                t_id     = TIMER_ID_BASE[5:0] + p[5:0];
+                t_result = timer_result_i[16*p +: 16];
+                t_onehot = {NUM_PINS{1'b0}};
+                t_onehot[p] = 1'b1;
+            end
+        end
+    end
+
+    wire pick_dio = dio_req_i && (!t_any || dio_id_i < t_id);
+    assign dio_done_o = pick_dio;
+    always @* timer_done_o = pick_dio ? {NUM_PINS{1'b0}} : t_onehot;
+
+    always @(posedge clk) begin
+        rflx_valid <= pick_dio || t_any;
+        rflx_id    <= pick_dio ? dio_id_i : t_id;
+        rflx_data  <= pick_dio ? {15'd0, dio_val_i} : t_result;
+        if (rst) begin
+            rflx_valid <= 1'b0;
+            rflx_id    <= 6'd0;
+            rflx_data  <= 16'd0;
+        end
+    end
+endmodule
+`default_nettype wire

@@ -1,0 +1,69 @@
+`default_nettype none
+// Strobe at RATE_HZ on average from a CLK_HZ clock, with no drift.
+// A phase accumulator adds RATE/g and wraps at CLK/g (g = gcd), so the
+// strobe phase never strays more than one clock from the ideal grid, for any
+// CLK_HZ, not only exact multiples of RATE_HZ. RATE_HZ = 0 strobes every clock.
+module bsd_tick_gen #(
+    parameter integer CLK_HZ  = 48_000_000,
+    parameter integer RATE_HZ = 625_000
+) (
+    input  wire clk,
+    input  wire rst,
+    output reg  tick_o
+);
+    function integer gcd(input integer a, input integer b);
+        integer x, y, t, i;
+        begin
+            x = a;
+            y = b;
+            // Euclid needs far fewer than 64 steps for 32-bit operands.
+            for (i = 0; i < 64; i = i + 1) begin
+                if (y != 0) begin
+                    t = x % y;
+                    x = y;
+                    y = t;
+                end
+            end
+            gcd = x;
+        end
+    endfunction
+
+
+    generate
+        if (RATE_HZ == 0) begin : g_every_clock
+            always @(posedge clk) begin
+                tick_o <= 1'b1;
+                if (rst) tick_o <= 1'b0;
+            end
+        end else begin : g_accumulator
+            localparam integer G   = gcd(CLK_HZ, RATE_HZ);
+            localparam integer INC = RATE_HZ / G;
+            localparam integer MOD = CLK_HZ / G;
+            // acc < MOD always, so acc + INC < 2 * MOD fits in W bits.
+            localparam integer W = $clog2(2 * MOD) + 1;
+            localparam [W-1:0] INC_W = INC[W-1:0];
+            localparam [W-1:0] MOD_W = MOD[W-1:0];
+
+            reg  [W-1:0] acc_q;
+            wire [W-1:0] sum  = acc_q + INC_W;
+            wire         wrap = (sum >= MOD_W);
+
+            always @(posedge clk) begin
+                acc_q  <= wrap ? sum - MOD_W : sum;
+                tick_o <= wrap;
+                if (rst) begin
+                    acc_q  <= {W{1'b0}};
+                    tick_o <= 1'b0;
+                end
+            end
+
+            initial begin
+                if (RATE_HZ > CLK_HZ) begin
+                    $display("bsd_tick_gen: RATE_HZ %0d above CLK_HZ %0d", RATE_HZ, CLK_HZ);
+                    $finish;
+                end
+            end
+        end
+    endgenerate
+endmodule
+`default_nettype wire

@@ -1,0 +1,42 @@
+`default_nettype none
+// One pin's one-shot transition latch (DIGCFG ENA/TRG).
+// Arming loads the current level as the previous sample, so a level that is
+// already present never fires by itself; an arm on the same clock as a
+// matching edge wins (the edge becomes the new baseline).
+module bsd_trans_latch (
+    input  wire clk,
+    input  wire rst,
+    input  wire arm_i,     // DIG_CFG set, DIG_RST, or the power-up arm
+    input  wire ena_i,     // DIGCFG ENA
+    input  wire trg_i,     // DIGCFG TRG: 1 fires on 0->1, 0 on 1->0
+    input  wire input_i,   // DIGCFG IODIR: the latch only watches inputs
+    input  wire sample_i,  // POLL_HZ strobe
+    input  wire level_i,   // synchronized pad level
+    output reg  fire_o     // one-clock pulse
+);
+    reg armed_q;
+    reg prev_q;
+
+    wire active = armed_q && ena_i && input_i && sample_i;
+    wire fire   = active && (level_i != prev_q) && (level_i == trg_i);
+
+    always @(posedge clk) begin
+        fire_o <= 1'b0;
+        if (arm_i) begin
+            armed_q <= 1'b1;
+            prev_q  <= level_i;
+        end else if (active) begin
+            prev_q <= level_i;
+            if (fire) begin
+                armed_q <= 1'b0;
+                fire_o  <= 1'b1;
+            end
+        end
+        if (rst) begin
+            armed_q <= 1'b0;
+            prev_q  <= 1'b0;
+            fire_o  <= 1'b0;
+        end
+    end
+endmodule
+`default_nettype wire

@@ -1,0 +1,80 @@
+`default_nettype none
+// Sends whole packets `A, N, d0..` onto m_axis, the oldest waiting source
+// first. Source s offers N (0..4) and up to four data bytes; it keeps its
+// request up until done_o[s] pulses with the handshake of its last byte,
+// so a source is "delivered" only when its packet has left the core.
+// The next packet is loaded on that same clock: no idle cycle between packets.
+module bsd_tx #(
+    parameter integer MODULE_ADDR = 2,
+    parameter integer K           = 2
+) (
+    input  wire          clk,
+    input  wire          rst,
+    input  wire [K-1:0]  req_i,
+    input  wire [3*K-1:0]  n_i,
+    input  wire [32*K-1:0] data_i,   // source s: data_i[32*s+24 +: 8] is d0
+    output reg  [K-1:0]  done_o,
+    output wire [7:0]    m_axis_tdata,
+    output wire          m_axis_tvalid,
+    input  wire          m_axis_tready,
+    output wire          m_axis_tlast
+);
+    localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
+
+    reg  [47:0]  buf_q;    // bytes still to send, first in the top byte
+    reg  [2:0]   left_q;   // bytes still to send
+    reg          valid_q;
+    reg  [K-1:0] cur_q;    // the source being sent
+    wire [K-1:0] gnt;
+
+    wire last = (left_q == 3'd1);
+    wire hs   = valid_q && m_axis_tready;
+    wire load = (!valid_q || (hs && last)) && (|gnt);
+
+    bsd_age_arb #(.K(K)) u_arb (
+        .clk       (clk),
+        .rst       (rst),
+        .req_i     (req_i),
+        .exclude_i (valid_q ? cur_q : {K{1'b0}}),
+        .gnt_o     (gnt)
+    );
+
+    reg [2:0]  sel_n;
+    reg [31:0] sel_data;
+    integer s;
+    always @* begin
+        sel_n    = 3'd0;
+        sel_data = 32'd0;
+        for (s = 0; s < K; s = s + 1) begin
+            if (gnt[s]) begin
+                sel_n    = sel_n | n_i[3*s +: 3];
+                sel_data = sel_data | data_i[32*s +: 32];
+            end
+        end
+        done_o = (hs && last) ? cur_q : {K{1'b0}};
+    end
+
+    always @(posedge clk) begin
+        if (load) begin
+            buf_q   <= {ADDR_OWN, 5'd0, sel_n, sel_data};
+            left_q  <= sel_n + 3'd2;
+            valid_q <= 1'b1;
+            cur_q   <= gnt;
+        end else if (hs) begin
+            buf_q   <= {buf_q[39:0], 8'd0};
+            left_q  <= left_q - 3'd1;
+            if (last) valid_q <= 1'b0;
+        end
+        if (rst) begin
+            buf_q   <= 48'd0;
+            left_q  <= 3'd0;
+            valid_q <= 1'b0;
+            cur_q   <= {K{1'b0}};
+        end
+    end
+
+    assign m_axis_tdata  = buf_q[47:40];
+    assign m_axis_tvalid = valid_q;
+    assign m_axis_tlast  = last;
+endmodule
+`default_nettype wire
