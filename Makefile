@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test lint sim venv clean
+.PHONY: all test lint sim sim-build venv clean
 
 # make sim [SCRIPT=path] [CLK_HZ=hz]: the standalone Verilator session runner.
 CLK_HZ  ?= 48000000
@@ -47,6 +47,8 @@ $(SIM_BIN): Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
 		-Irtl --top-module brainstem_dio -GCLK_HZ=$(CLK_HZ) -CFLAGS "-O2 -DCLK_HZ=$(CLK_HZ)" \
 		-Mdir $(SIM_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(SIM_DIR).log 2>&1 \
 		|| { cat $(SIM_DIR).log; exit 1; }
+
+sim-build: $(SIM_BIN)
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)

@@ -49,11 +49,23 @@ module brainstem_dio #(
 
     // ---------------------------------------------------------------- checks
 `ifndef SYNTHESIS
+    // Device IDs are 6 bits: every pin's level ID and every timer pin's ID.
+    function integer top_timer_pin(input integer unused);
+        integer q;
+        begin
+            top_timer_pin = -1;
+            for (q = 0; q < NUM_PINS; q = q + 1)
+                if (TIMER_MASK[q]) top_timer_pin = q;
+        end
+    endfunction
+
     initial begin
         if (MODULE_ADDR < 2 || MODULE_ADDR > 254 || MODULE_ADDR % 2 != 0 ||
             NUM_PINS < 1 || NUM_PINS > 64 || CLK_HZ < 2_000_000 ||
-            PIN_ID_BASE + NUM_PINS > 64 || TIMER_ID_BASE + NUM_PINS > 64 ||
-            HB_RATE < 0 || HB_RATE > 255) begin
+            PIN_ID_BASE < 0 || PIN_ID_BASE + NUM_PINS > 64 ||
+            TIMER_ID_BASE < 0 || TIMER_ID_BASE + top_timer_pin(0) > 63 ||
+            POLL_HZ < 0 || POLL_HZ > CLK_HZ || RX_TIMEOUT_US < 0 ||
+            HB_RATE < 0 || HB_RATE > 100_000) begin
             $display("brainstem_dio: parameters outside the contract's ranges");
             $finish;
         end

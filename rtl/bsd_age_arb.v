@@ -1,8 +1,9 @@
 `default_nettype none
 // Grants the oldest requester. A request is "born" on the clock it rises;
 // requesters born on the same clock rank by index (lowest first). Keeps an
-// age matrix: older_q[j*K+i] = requester j is older than requester i.
-// The grant is combinational and already counts this clock's newborns.
+// age matrix by columns: older_q[K*i +: K] has bit j set when requester j is
+// older than requester i. The grant is combinational and already counts this
+// clock's newborns, so a request can be granted on the clock it rises.
 module bsd_age_arb #(
     parameter integer K = 4
 ) (
@@ -18,22 +19,20 @@ module bsd_age_arb #(
     wire [K-1:0]   born = req_i & ~req_q;
     wire [K-1:0]   cand = req_i & ~exclude_i;
 
-    integer i, j;
+    // below[i]: the requesters with a lower index than i.
+    function [K-1:0] below(input integer i);
+        below = ({{(K-1){1'b0}}, 1'b1} << i) - 1'b1;
+    endfunction
+
+    integer i;
     always @* begin
-        for (j = 0; j < K; j = j + 1) begin
-            for (i = 0; i < K; i = i + 1) begin
-                if (born[i])
-                    older_d[j*K+i] = req_q[j] || (born[j] && j < i);
-                else if (born[j])
-                    older_d[j*K+i] = 1'b0;
-                else
-                    older_d[j*K+i] = older_q[j*K+i];
-            end
-        end
         for (i = 0; i < K; i = i + 1) begin
-            gnt_o[i] = cand[i];
-            for (j = 0; j < K; j = j + 1)
-                if (j != i && cand[j] && older_d[j*K+i]) gnt_o[i] = 1'b0;
+            // A newborn is younger than everything already waiting and than
+            // same-clock newborns of lower index; a waiting requester stays
+            // older than every newborn.
+            older_d[K*i +: K] = born[i] ? (req_q | (born & below(i)))
+                                        : (older_q[K*i +: K] & ~born);
+            gnt_o[i] = cand[i] && !(|(cand & older_d[K*i +: K]));
         end
     end
 

@@ -11,7 +11,7 @@ module bsd_parser #(
     input  wire       clk,
     input  wire       rst,
     input  wire       tick_i,        // 1.6 us strobe
-    input  wire       hold_i,        // a reply is waiting: hold bytes that may need another
+    input  wire       hold_i,        // a reply is waiting: hold packets that may need another
     input  wire [7:0] s_axis_tdata,
     input  wire       s_axis_tvalid,
     output wire       s_axis_tready,
@@ -42,8 +42,12 @@ module bsd_parser #(
     reg  [TW-1:0] idle_q;
 
     wire last_data = (cnt_q + 4'd1 == pkt_n_o);
-    wire may_reply = (state_q == ST_LEN && (own_q || probe_q)) ||
-                     (state_q == ST_DATA && own_q && last_data);
+
+    // Only packets for this module or 0xAD can need the reply slot, and their
+    // length byte is the first that can end one: it waits while a reply does.
+    // Once it is taken no other reply can claim the slot before this packet
+    // executes, so execution never waits.
+    wire may_reply = state_q == ST_LEN && (own_q || probe_q);
 
     assign s_axis_tready = !rst && !(hold_i && may_reply);
 

@@ -34,9 +34,16 @@
 #if VM_TRACE_FST
 #include "verilated_fst_c.h"
 using Trace = VerilatedFstC;
-#else
+#elif VM_TRACE
 #include "verilated_vcd_c.h"
 using Trace = VerilatedVcdC;
+#else
+// Built without tracing (the benchmark build): a stand-in that is never opened.
+struct Trace {
+    void open(const char*) {}
+    void dump(uint64_t) {}
+    void close() {}
+};
 #endif
 
 #ifndef CLK_HZ
@@ -59,7 +66,7 @@ constexpr double kVcdWindowS = 200e-6;
 
 // Bounds so that no script can hang the runner.
 constexpr double kSendLimitS = 1.0;
-constexpr double kExpectLimitS = 1.0;
+constexpr double kExpectLimitS = 0.2;  // above the 104.9 ms timer timeout
 
 struct Fail {
     std::string msg;
@@ -246,12 +253,17 @@ class Session {
   public:
     Session(VerilatedContext* ctx, const char* wave, bool quiet)
         : top_(new Vbrainstem_dio{ctx}), quiet_(quiet) {
+#if VM_TRACE
         if (wave) {
             ctx->traceEverOn(true);
             trace_.reset(new Trace);
             top_->trace(trace_.get(), 99);
             trace_->open(wave);
         }
+#else
+        (void)ctx;
+        if (wave) std::fprintf(stderr, "note: built without tracing, no waveform\n");
+#endif
         top_->pin_i = 0;
         top_->m_axis_tready = 1;
         reset();
@@ -301,7 +313,7 @@ class Session {
     std::vector<uint8_t> next_packet() {
         const uint64_t limit = cycle_ + static_cast<uint64_t>(kExpectLimitS * CLK_HZ);
         while (out_.empty()) {
-            if (cycle_ >= limit) throw Fail{"no packet from the core within 1 s"};
+            if (cycle_ >= limit) throw Fail{"no packet from the core within 200 ms"};
             clock();
         }
         std::vector<uint8_t> p = out_.front();
@@ -352,8 +364,8 @@ class Session {
             cur_.push_back(top_->m_axis_tdata);
             if (top_->m_axis_tlast) received();
         }
-        if (top_->raw_trans) raw_inputs(top_->raw_trans);
-        if (top_->rflx_valid) {
+        if (top_->raw_trans && !quiet_) raw_inputs(top_->raw_trans);
+        if (top_->rflx_valid && !quiet_) {
             char b[64];
             std::snprintf(b, sizeof b, "* RFLX id %d = %d", top_->rflx_id, top_->rflx_data);
             log(b, "");
@@ -368,6 +380,10 @@ class Session {
     void received() {
         std::vector<uint8_t> p;
         p.swap(cur_);
+        if (quiet_) {
+            out_.push_back(std::move(p));
+            return;
+        }
         if (p.size() >= 4 && p[1] == 2 && p[2] == 0x80) {
             char b[48];
             std::snprintf(b, sizeof b, "< %d:%s", p[0], message_name(p[3]));

@@ -1,0 +1,120 @@
+"""cmdHB (PROTOCOL.md §3): the core's UP/DOWN heartbeats every HB_RATE x 25.6 ms and
+`link_up` with host answers in time, late, missing and wrong, and with a stalled output
+(a heartbeat that falls due while the previous one is unsent is skipped). Built with a slow
+clock and HB_RATE = 1 so a period is only 51 200 clocks; the model gives every expected
+packet and link state."""
+
+from __future__ import annotations
+
+import cocotb
+
+from bsd_model import CMD_HB, HB_ANSWER, TICK_S, Model, Output, Params, packet
+from bsd_tb import TB, TBError
+
+
+class HeartbeatTB(TB):
+    """TB with the heartbeat schedule: due times counted from the clock reset ended."""
+
+    async def begin(self, model: Model) -> None:
+        await self.cycles(3)
+        await self.reset()
+        self.t0 = self.now_s()  # the first clock out of reset: the tick phase starts here
+        self.k = 0  # heartbeats due so far
+        await self.expect(model.reset(0), what="reset")
+
+    def due_s(self, k: int) -> float:
+        return self.t0 + k * self.p.hb_period_s
+
+    def check_link(self, model: Model, when: str) -> None:
+        got = int(self.dut.link_up.value)
+        if got != int(model.link_up):
+            raise TBError(f"link_up = {got}, model {int(model.link_up)} {when}")
+
+    async def next_due(self, model: Model, outcome: str = "sent") -> list[bytes]:
+        """Run to just after the next due time and check link_up against the model there.
+        outcome "sent": the heartbeat must leave on time; "queued": it falls due but the
+        output is stalled; "skipped": the previous one is still unsent. Returns the
+        model's heartbeat packets."""
+        self.k += 1
+        due = self.due_s(self.k)
+        await self.until_s(due - 4 * TICK_S)
+        self.check_link(model, f"just before heartbeat {self.k}")
+        exp = model.heartbeat_skipped() if outcome == "skipped" else model.heartbeat_due()
+        await self.until_s(due + 4 * TICK_S)
+        self.check_link(model, f"just after heartbeat {self.k} fell due")
+        if outcome == "sent":
+            got = await self.expect(exp, what=f"heartbeat {self.k}")
+            late = (got[0].t_first - due) / TICK_S
+            if not -2 <= late <= 2:
+                raise TBError(f"heartbeat {self.k} came {late:+.2f} ticks off its due time")
+        return exp.packets
+
+    async def answer(self, model: Model, kind: int) -> None:
+        """The host answers (any type byte): silent, and link_up follows the model."""
+        await self.command(model, packet(self.p.module_addr, CMD_HB, kind))
+        self.check_link(model, f"after the answer {kind}")
+
+
+# Which tests apply depends on the build's parameters.
+BUILD = Params.from_env()
+
+
+@cocotb.test(skip=not BUILD.hb_rate)
+async def heartbeats_and_link_up(dut):
+    p = BUILD
+    tb = HeartbeatTB(dut, p)
+    model = Model(p)
+    await tb.begin(model)
+    tb.check_link(model, "after reset")
+    a = p.module_addr
+
+    # No answers: UP, DOWN; link stays down.
+    await tb.next_due(model)
+    await tb.next_due(model)
+    # Answered in time, twice: link up, and it stays up through the next due times.
+    await tb.wait_s(1e-3)
+    await tb.answer(model, 1 + HB_ANSWER)
+    await tb.next_due(model)
+    await tb.wait_s(5e-3)
+    await tb.answer(model, 0 + HB_ANSWER)
+    await tb.next_due(model)
+    # Missing: the next due time takes the link down.
+    await tb.next_due(model)
+    # Late (answers the previous heartbeat) and wrong answers leave it down; the right one
+    # brings it up.
+    await tb.answer(model, 1 + HB_ANSWER)
+    await tb.answer(model, 7)
+    await tb.answer(model, 0 + HB_ANSWER)
+    # Host cmdHB packets of every other shape are consumed silently.
+    for data in ([CMD_HB], [CMD_HB, 0 + HB_ANSWER, 0xFF], [CMD_HB, 0, 1, 2, 3, 4, 5, 6]):
+        await tb.command(model, bytes([a, len(data), *data]))
+    # Output stalled across two due times: the first heartbeat waits, the second is
+    # skipped (no toggle of the type) and the link goes down.
+    tb.sink.paused = True
+    queued = await tb.next_due(model, "queued")
+    await tb.next_due(model, "skipped")
+    if tb.new_packets():
+        raise TBError("a packet left while the output was stalled")
+    tb.sink.paused = False
+    # The queued heartbeat leaves now, with its own type; the next one has the other type.
+    await tb.expect(Output(packets=queued), what="the stall")
+    await tb.next_due(model)
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=bool(BUILD.hb_rate))
+async def no_heartbeat_when_off(dut):
+    """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the host sends."""
+    p = BUILD
+    tb = TB(dut, p)
+    model = Model(p)
+    await tb.start(model)
+    a = p.module_addr
+    for kind in (HB_ANSWER, HB_ANSWER + 1):
+        await tb.command(model, packet(a, CMD_HB, kind))
+    await tb.wait_s(3 * 25.6e-3)
+    if tb.new_packets():
+        raise TBError("a packet without HB_RATE")
+    if int(dut.link_up.value) != 0:
+        raise TBError("link_up without HB_RATE")
+    tb.check_no_errors()

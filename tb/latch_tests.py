@@ -1,0 +1,151 @@
+"""The one-shot transition latch at the top level (PROTOCOL.md §4.1): seeded random pad
+changes, DIG_RST and DIG_CFG sets checked against the model; the POLL_HZ sampling grid; and
+the clock on which a re-arm meets a matching edge (docs/DESIGN.md decision 5)."""
+
+from __future__ import annotations
+
+import cocotb
+from cocotb.triggers import ReadOnly, RisingEdge, Timer
+
+from bsd_model import (
+    CMD_DIG_CFG,
+    CMD_DIG_RST,
+    DIGCFG_ENA,
+    DIGCFG_IODIR,
+    DIGCFG_TRG,
+    Model,
+    Params,
+    packet,
+)
+from bsd_tb import TB, TBError
+
+
+# Which tests apply depends on the build's parameters.
+BUILD = Params.from_env()
+
+
+def hold_s(p: Params) -> float:
+    """How long a pad level is held so that at least one poll sees it."""
+    return 2.5 / p.poll_hz if p.poll_hz else 20 / p.clk_hz
+
+
+@cocotb.test()
+async def random_sequence(dut):
+    """Random pad levels, DIG_RST and DIG_CFG sets (ENA, TRG, IODIR) on every free pin."""
+    p = BUILD
+    tb = TB(dut, p)
+    model = Model(p)
+    await tb.start(model)
+    a = p.module_addr
+    tb.log.info("seed %d", tb.seed)
+    pins = p.free_pins
+    for step in range(300):
+        pin = tb.rng.choice(pins)
+        r = tb.rng.random()
+        if r < 0.2:
+            cfg = tb.rng.choice([DIGCFG_IODIR | DIGCFG_ENA, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG,
+                                 DIGCFG_IODIR, DIGCFG_ENA | DIGCFG_TRG])
+            await tb.command(model, packet(a, CMD_DIG_CFG, pin, cfg), settle_cycles=4)
+        elif r < 0.35:
+            await tb.command(model, packet(a, CMD_DIG_RST, pin), settle_cycles=4)
+        else:
+            level = 1 - model.level(pin)
+            tb.set_pin(pin, level)
+            exp = model.set_pin(pin, level)
+            await tb.wait_s(hold_s(p))
+            await tb.expect(exp, settle_cycles=4, what=f"step {step}: pin {pin} -> {level}")
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=not BUILD.poll_hz)
+async def polling_grid(dut):
+    """POLL_HZ > 0: the latch fires on a poll, so a glitch between two polls is never seen
+    and every raw_trans pulse lands on the poll grid that starts at reset."""
+    p = BUILD
+    tb = TB(dut, p)
+    model = Model(p)
+    await tb.cycles(3)
+    await tb.reset()
+    t_reset = tb.now_s()  # the first clock out of reset: the poll phase starts here
+    await tb.expect(model.reset(0), what="reset")
+    a, pin, period = p.module_addr, 0, 1 / p.poll_hz
+    await tb.command(model, packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG))
+    for k in range(3, 9):
+        # A glitch well inside the k-th poll interval: unseen.
+        await tb.until_s(t_reset + (k + 0.3) * period)
+        tb.set_pin(pin, 1)
+        await tb.until_s(t_reset + (k + 0.6) * period)
+        tb.set_pin(pin, 0)
+    await tb.until_s(t_reset + 9.5 * period)
+    fired = tb.new_trans()
+    if fired:
+        raise TBError(f"a {0.3 * period * 1e6:.0f} us glitch between polls fired the latch "
+                      f"at {[(t - t_reset) / period for t, _ in fired]} poll periods after reset")
+    # A real edge fires on the next poll.
+    tb.set_pin(pin, 1)
+    model.set_pin(pin, 1)
+    await tb.wait_s(2 * period)
+    fired = tb.new_trans()
+    if [q for _, q in fired] != [pin]:
+        raise TBError(f"raw_trans {fired}, expected pin {pin} once")
+    # Poll k strobes at the clock k * CLK_HZ / POLL_HZ after reset (± 1), then the
+    # synchronized level is compared, and raw_trans is registered.
+    phase = (fired[0][0] - t_reset) / period
+    off_clocks = (phase - round(phase)) * period * p.clk_hz
+    if not 0 <= off_clocks <= 4:
+        raise TBError(f"raw_trans {off_clocks:.2f} clocks off the poll grid")
+    tb.log.info("raw_trans %.2f clocks after a poll", off_clocks)
+
+
+@cocotb.test(skip=bool(BUILD.poll_hz))
+async def rearm_meets_edge(dut):
+    """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad rises, at every clock
+    offset around the command. The re-arm takes effect 1 clock after the last byte's
+    handshake and sees the pad 2 clocks late: an edge whose synchronized level arrives
+    before the arm clock fires (then the arm re-baselines); one that arrives on the arm
+    clock is absorbed (decision 5: re-arm wins); a later one fires after the arm."""
+    p = BUILD
+    tb = TB(dut, p)
+    await tb.start()
+    a, pin = p.module_addr, p.free_pins[0]
+    cfg = packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)
+    half = tb.period_ps // 2
+    fires = {}
+    for d in range(-6, 5):
+        tb.set_pin(pin, 0)
+        await tb.source.send(cfg)          # arm with the pad low
+        await tb.cycles(10)
+        tb.new_trans()
+        # Drive the same command by hand so the handshake clock is known: byte i is taken
+        # at edge i; the pad rises a quarter clock after edge len-1+d.
+        last = len(cfg) - 1
+        rise = cocotb.start_soon(_rise_after_edges(tb, pin, last + d, half // 2))
+        for b in cfg:
+            dut.s_axis_tdata.value = b
+            dut.s_axis_tvalid.value = 1
+            await ReadOnly()
+            if int(dut.s_axis_tready.value) != 1:
+                raise TBError("the core stalled a command with no reply waiting")
+            await RisingEdge(tb.clk)
+        dut.s_axis_tvalid.value = 0
+        await rise
+        await tb.cycles(12)
+        fires[d] = len(tb.new_trans())
+    tb.log.info("fires by pad-rise offset: %s", fires)
+    # Edge synchronized before the arm clock: fires once (and is re-baselined);
+    # on the arm clock (offset -2): absorbed; after it: fires once.
+    want = {d: 0 if d == -2 else 1 for d in fires}
+    if fires != want:
+        raise TBError(f"fires by offset {fires}, expected {want}")
+
+
+async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int) -> None:
+    if edges < 0:
+        # Negative offsets: rise before the first byte is even offered.
+        tb.set_pin(pin, 1)
+        await Timer(1, unit="ps")
+        return
+    for _ in range(edges + 1):
+        await RisingEdge(tb.clk)
+    await Timer(extra_ps, unit="ps")
+    tb.set_pin(pin, 1)
