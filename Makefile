@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test lint sim sim-build venv clean
+.PHONY: all test lint sim sim-build bench bench-build venv clean
 
 # make sim [SCRIPT=path] [CLK_HZ=hz]: the standalone Verilator session runner.
 CLK_HZ  ?= 48000000
@@ -49,6 +49,21 @@ $(SIM_BIN): Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
 		|| { cat $(SIM_DIR).log; exit 1; }
 
 sim-build: $(SIM_BIN)
+
+# The benchmark's harness: the same runner without tracing, for raw speed.
+BENCH_DIR := sim/build/bench
+$(BENCH_DIR)/session: Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
+	@mkdir -p $(BENCH_DIR)
+	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --x-assign fast --x-initial fast \
+		--noassert --quiet-stats -Irtl --top-module brainstem_dio -CFLAGS "-O2 -DCLK_HZ=48000000" \
+		-MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2" \
+		-Mdir $(BENCH_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(BENCH_DIR).log 2>&1 \
+		|| { cat $(BENCH_DIR).log; exit 1; }
+
+bench-build: $(BENCH_DIR)/session
+
+bench: $(BENCH_DIR)/session
+	@$(WITH_VERILATOR) $(VPY) sim/bench.py
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)

@@ -430,6 +430,10 @@ class TB:
             out += [(t, p) for p in range(self.p.num_pins) if bits >> p & 1]
         return out
 
+    async def wait_new_packets(self, n: int, timeout_s: float) -> bool:
+        """Wait until `n` packets have arrived that new_packets() has not returned yet."""
+        return await self.sink.wait_count(self._n_pkt + n, timeout_s)
+
     def new_packets(self) -> list[RxPacket]:
         pk = self.packets[self._n_pkt:]
         self._n_pkt = len(self.packets)

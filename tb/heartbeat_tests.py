@@ -16,14 +16,12 @@ class HeartbeatTB(TB):
     """TB with the heartbeat schedule: due times counted from the clock reset ended."""
 
     async def begin(self, model: Model) -> None:
-        await self.cycles(3)
-        await self.reset()
-        self.t0 = self.now_s()  # the first clock out of reset: the tick phase starts here
+        await self.start(model)
         self.k = 0  # heartbeats due so far
-        await self.expect(model.reset(0), what="reset")
 
     def due_s(self, k: int) -> float:
-        return self.t0 + k * self.p.hb_period_s
+        # The tick phase starts on the first clock out of reset.
+        return self.t_reset + k * self.p.hb_period_s
 
     def check_link(self, model: Model, when: str) -> None:
         got = int(self.dut.link_up.value)

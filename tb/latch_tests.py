@@ -64,10 +64,8 @@ async def polling_grid(dut):
     p = BUILD
     tb = TB(dut, p)
     model = Model(p)
-    await tb.cycles(3)
-    await tb.reset()
-    t_reset = tb.now_s()  # the first clock out of reset: the poll phase starts here
-    await tb.expect(model.reset(0), what="reset")
+    await tb.start(model)
+    t_reset = tb.t_reset  # the poll phase starts on the first clock out of reset
     a, pin, period = p.module_addr, 0, 1 / p.poll_hz
     await tb.command(model, packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG))
     for k in range(3, 9):

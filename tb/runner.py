@@ -10,6 +10,7 @@ from __future__ import annotations
 import fcntl
 import hashlib
 import os
+import subprocess
 import sys
 from pathlib import Path
 from typing import Mapping
@@ -42,14 +43,21 @@ if str(TB) not in sys.path:
     sys.path.insert(0, str(TB))
 
 
+def _have_lz4() -> bool:
+    """Verilator's FST writer needs lz4's header (Debian: liblz4-dev); VCD needs nothing."""
+    probe = subprocess.run(["c++", "-E", "-x", "c++", "-"], input="#include <lz4.h>\n",
+                           capture_output=True, text=True)
+    return probe.returncode == 0
+
+
 def rtl_sources() -> list[Path]:
     return sorted(RTL.glob("*.v"))
 
 
-def _build_dir(sim: str, toplevel: str, parameters: Mapping[str, object]) -> Path:
+def _build_dir(sim: str, toplevel: str, parameters: Mapping[str, object], waves: bool) -> Path:
     text = ",".join(f"{k}={parameters[k]}" for k in sorted(parameters))
     tag = hashlib.sha1(text.encode()).hexdigest()[:10] if text else "default"
-    return BUILD / f"{toplevel}-{sim}-{tag}"
+    return BUILD / f"{toplevel}-{sim}-{tag}{'-waves' if waves else ''}"
 
 
 def run(
@@ -62,13 +70,14 @@ def run(
 ) -> None:
     """Build (once per parameter set) and run every cocotb test of `test_module`."""
     parameters = dict(parameters or {})
-    build_dir = _build_dir(sim, toplevel, parameters)
-    build_dir.mkdir(parents=True, exist_ok=True)
     waves = os.environ.get("WAVES", "0") == "1"
+    build_dir = _build_dir(sim, toplevel, parameters, waves)
+    build_dir.mkdir(parents=True, exist_ok=True)
     runner = get_runner(sim)
     build_args: list[str] = []
     if sim == "verilator":
-        build_args = ["-Wno-fatal", "-O3"] + (["--trace-fst"] if waves else [])
+        # cocotb's runner adds --trace (a VCD, dump.vcd) for waves; FST where it can build.
+        build_args = ["-Wno-fatal", "-O3"] + (["--trace-fst"] if waves and _have_lz4() else [])
     with open(build_dir / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         runner.build(

@@ -15,6 +15,7 @@ import os
 
 import cocotb
 
+import figures
 from bsd_model import (
     CMD_DIG_CFG,
     CMD_PTIME_RD,
@@ -104,7 +105,7 @@ async def random_intervals(dut):
             job.start_s = times[-1]
             drivers.append(tb.drive_waveform(job.pin, job.waveform()))
         longest = max(j.start_s + (j.lead if j.width else 0) + j.interval for j in jobs)
-        if not await tb.sink.wait_count(tb._n_pkt + len(jobs), longest - tb.now_s() + 1e-3):
+        if not await tb.wait_new_packets(len(jobs), longest - tb.now_s() + 1e-3):
             raise TBError(f"missing timer results: {[pk.data.hex() for pk in tb.new_packets()]}")
         await tb.cycles(20)
         got = {pk.data[3] - p.timer_id_base: pk.data for pk in tb.new_packets()}
@@ -134,8 +135,11 @@ async def random_intervals(dut):
     tb.check_no_errors()
     tb.log.info("%d intervals at %.3f MHz: worst error %.3f ticks (%.3f ticks less the fixed "
                 "latency allowance)", done, p.clk_hz / 1e6, worst, worst_net)
-    print(f"TIMER ACCURACY clk={p.clk_hz} n={done} worst_error_ticks={worst:.3f} "
-          f"worst_net_ticks={worst_net:.3f}")
+    figures.record(
+        f"timer_accuracy-{cocotb.SIM_NAME.split()[0]}-{p.clk_hz}",
+        f"timer accuracy, {cocotb.SIM_NAME.split()[0]:9s} {p.clk_hz / 1e6:6.2f} MHz: "
+        f"{done} intervals (seed {tb.seed}), worst |error| {worst:.3f} ticks, "
+        f"{worst_net:.3f} ticks less the fixed latency allowance")
 
 
 @cocotb.test()
@@ -149,7 +153,7 @@ async def timeout_reports_zero(dut):
     tb.set_pin(pin, 0)
     await tb.source.send(packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_TSTATE))
     times = await tb.source.send(packet(a, CMD_PTIME_RD, DEVCODE_HOST | pin))
-    if not await tb.sink.wait_count(tb._n_pkt + 1, TIMER_TIMEOUT_S + 2e-3):
+    if not await tb.wait_new_packets(1, TIMER_TIMEOUT_S + 2e-3):
         raise TBError("no timeout result")
     pk = tb.new_packets()[0]
     if pk.data != packet(a, 4, p.timer_id(pin), 0, 0):

@@ -1,0 +1,56 @@
+"""The benchmark's busy scenario under cocotb (run by sim/bench.py, not by pytest):
+back-to-back packet traffic through the TB's drivers and monitors, timers running, two pins
+toggling every 1024 clocks, for BSD_BENCH_CYCLES clocks. The same scenario as
+`sim/session --bench` (the standalone C++ harness), so the figures compare."""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+
+import cocotb
+
+from bsd_model import Params
+from bsd_tb import TB
+
+# The same command mix as Session::bench in sim/session.cpp.
+COMMANDS = [
+    [2, 26, 3, 0x19], [2, 29, 0x83], [2, 27, 0x80], [2, 26, 4, 0x01],
+    [2, 29, 0x84], [2, 28, 2], [2, 26, 1, 0x01], [2, 29, 0x81],
+]
+
+
+@cocotb.test()
+async def busy(dut):
+    p = Params.from_env()
+    cycles = int(os.environ.get("BSD_BENCH_CYCLES", "200000"))
+    tb = TB(dut, p)
+    await tb.start()
+    done = False
+
+    async def traffic() -> None:
+        k = 0
+        while not done:
+            c = COMMANDS[k % len(COMMANDS)]
+            k += 1
+            await tb.source.send(bytes([c[0], len(c) - 1, *c[1:]]))
+
+    async def toggle() -> None:
+        while not done:
+            await tb.cycles(1024)
+            tb.set_pins(tb.pins ^ 0x18)
+
+    t0 = time.perf_counter()
+    start = tb.now_s()
+    cocotb.start_soon(traffic())
+    cocotb.start_soon(toggle())
+    await tb.cycles(cycles)
+    done = True
+    wall = time.perf_counter() - t0
+    ran = round((tb.now_s() - start) * p.clk_hz)
+    out = os.environ.get("BSD_BENCH_OUT")
+    if out:
+        with open(out, "w") as f:
+            json.dump({"cycles": ran, "seconds": wall, "packets": len(tb.packets)}, f)
+    tb.log.info("%d cycles in %.3f s: %.0f cycles/s", ran, wall, ran / wall)
