@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test lint sim sim-build bench bench-build venv clean
+.PHONY: all test lint sim sim-build bench bench-build synth bitstream venv clean
 
 # make sim [SCRIPT=path] [CLK_HZ=hz]: the standalone Verilator session runner.
 CLK_HZ  ?= 48000000
@@ -68,8 +68,22 @@ bench: $(BENCH_DIR)/session
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
 
+# Synthesis tools are large: installed only for these targets.
+SYNTH_STAMP := $(VENV)/.synth-installed
+$(SYNTH_STAMP): synth/requirements.txt | $(STAMP)
+	$(VPY) -m pip install -q -r synth/requirements.txt
+	touch $@
+
+# Area and Fmax table of the core and the board top -> docs/synthesis.md (a few minutes).
+synth: $(SYNTH_STAMP)
+	$(VPY) synth/synth.py
+
+# The iCEBreaker bitstream -> synth/build/icebreaker/icebreaker.bin
+bitstream: $(SYNTH_STAMP)
+	$(VPY) synth/synth.py --bitstream
+
 test: $(STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE $(PYTEST_ARGS) tb
 
 clean:
-	rm -rf sim_build sim/build .pytest_cache tb/__pycache__
+	rm -rf sim_build sim/build synth/build .pytest_cache tb/__pycache__

@@ -138,6 +138,7 @@ module brainstem_dio #(
     wire [31:0]           rep_data;
     wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
     wire [5:0]            dio_rflx_id;
+    wire                  exec_busy;
 
     bsd_exec #(
         .NUM_PINS    (NUM_PINS),
@@ -156,6 +157,7 @@ module brainstem_dio #(
         .cfg_i           (cfg),
         .level_i         (level),
         .timer_busy_i    (timer_busy),
+        .busy_o          (exec_busy),
         .cfg_we_o        (cfg_we),
         .out_we_o        (out_we),
         .pin_o           (wr_pin),
@@ -178,8 +180,8 @@ module brainstem_dio #(
     );
 
     // Hold the last byte of a packet that may need the reply slot or the
-    // DIG_IO RFLX slot while either is still full.
-    assign hold = rep_req || dio_rflx_req;
+    // DIG_IO RFLX slot while either is full or about to be filled.
+    assign hold = rep_req || dio_rflx_req || exec_busy;
 
     bsd_cfg_regs #(
         .NUM_PINS   (NUM_PINS),

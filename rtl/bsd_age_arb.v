@@ -2,8 +2,10 @@
 // Grants the oldest requester. A request is "born" on the clock it rises;
 // requesters born on the same clock rank by index (lowest first). Keeps an
 // age matrix by columns: older_q[K*i +: K] has bit j set when requester j is
-// older than requester i. The grant is combinational and already counts this
-// clock's newborns, so a request can be granted on the clock it rises.
+// older than requester i. The grant comes from registers only (the requests
+// and ages of the previous clock, and the requests of this one, which drop
+// when served), so a request is granted one clock after it rises at the
+// earliest.
 module bsd_age_arb #(
     parameter integer K = 4
 ) (
@@ -17,7 +19,7 @@ module bsd_age_arb #(
     reg  [K*K-1:0] older_q;
     reg  [K*K-1:0] older_d;
     wire [K-1:0]   born = req_i & ~req_q;
-    wire [K-1:0]   cand = req_i & ~exclude_i;
+    wire [K-1:0]   cand = req_q & req_i & ~exclude_i;
 
     // below[i]: the requesters with a lower index than i.
     function [K-1:0] below(input integer i);
@@ -32,7 +34,7 @@ module bsd_age_arb #(
             // older than every newborn.
             older_d[K*i +: K] = born[i] ? (req_q | (born & below(i)))
                                         : (older_q[K*i +: K] & ~born);
-            gnt_o[i] = cand[i] && !(|(cand & older_d[K*i +: K]));
+            gnt_o[i] = cand[i] && !(|(cand & older_q[K*i +: K]));
         end
     end
 

@@ -43,11 +43,16 @@ module bsd_parser #(
 
     wire last_data = (cnt_q + 4'd1 == pkt_n_o);
 
-    // Only packets for this module or 0xAD can need the reply slot, and their
-    // length byte is the first that can end one: it waits while a reply does.
-    // Once it is taken no other reply can claim the slot before this packet
-    // executes, so execution never waits.
-    wire may_reply = state_q == ST_LEN && (own_q || probe_q);
+    // The last byte of a packet that can need the reply slot waits while the
+    // slot is (or is about to be) full, so execution itself never waits. That
+    // is the last data byte of a packet for this module, or a length byte that
+    // ends a packet with a reply: 0xAD with N = 0, this module with N > 8.
+    // The latter makes s_axis_tready depend on the offered byte, which
+    // AXI-Stream allows (with tvalid 0 it is 1 there, so an idle input counts
+    // towards the timeout). Every other byte streams at one per clock.
+    wire may_reply = (state_q == ST_LEN && s_axis_tvalid &&
+                      ((probe_q && s_axis_tdata == 8'd0) || (own_q && s_axis_tdata > MAX_N))) ||
+                     (state_q == ST_DATA && own_q && last_data);
 
     assign s_axis_tready = !rst && !(hold_i && may_reply);
 

@@ -1,7 +1,7 @@
 // Protocol constants of the BrainStem 1.0 packet link (PROTOCOL.md §2, §3),
-// Each module uses only some of these constants.
+// included inside the modules that need them. Each module uses only some of
+// them, so unused ones are not worth a warning there.
 /* verilator lint_off UNUSEDPARAM */
-// included inside the modules that need them.
 localparam [7:0] CMD_HB       = 8'd0;
 localparam [7:0] CMD_DEV_VAL  = 8'd4;
 localparam [7:0] CMD_DIG_CFG  = 8'd26;

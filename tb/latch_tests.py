@@ -23,6 +23,10 @@ from bsd_tb import TB, TBError
 # Which tests apply depends on the build's parameters.
 BUILD = Params.from_env()
 
+# A command's state change lands this many clocks after its last byte's handshake
+# (docs/DESIGN.md, "Latencies").
+EXEC_CLOCKS = 2
+
 
 def hold_s(p: Params) -> float:
     """How long a pad level is held so that at least one poll sees it."""
@@ -98,7 +102,7 @@ async def polling_grid(dut):
 @cocotb.test(skip=bool(BUILD.poll_hz))
 async def rearm_meets_edge(dut):
     """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad rises, at every clock
-    offset around the command. The re-arm takes effect 1 clock after the last byte's
+    offset around the command. The re-arm takes effect EXEC_CLOCKS after the last byte's
     handshake and sees the pad 2 clocks late: an edge whose synchronized level arrives
     before the arm clock fires (then the arm re-baselines); one that arrives on the arm
     clock is absorbed (decision 5: re-arm wins); a later one fires after the arm."""
@@ -130,9 +134,11 @@ async def rearm_meets_edge(dut):
         await tb.cycles(12)
         fires[d] = len(tb.new_trans())
     tb.log.info("fires by pad-rise offset: %s", fires)
-    # Edge synchronized before the arm clock: fires once (and is re-baselined);
-    # on the arm clock (offset -2): absorbed; after it: fires once.
-    want = {d: 0 if d == -2 else 1 for d in fires}
+    # A pad rise a quarter clock after edge E0 + d reaches the latch's input at edge
+    # E0 + d + 2 and is compared at E0 + d + 3. Compared before the arm clock: fires
+    # once (and is re-baselined); on it (d = EXEC_CLOCKS - 3): absorbed; after: fires.
+    absorbed = EXEC_CLOCKS - 3
+    want = {d: 0 if d == absorbed else 1 for d in fires}
     if fires != want:
         raise TBError(f"fires by offset {fires}, expected {want}")
 

@@ -3,9 +3,10 @@ several timers running at once, every result checked against the true interval.
 
 The bound: a result counts the tick strobes between the timer's two reference clocks, so it
 is within one tick of the reference span; each reference lags its event by a fixed number
-of clocks (docs/DESIGN.md, "Latencies"): the start by 1 clock after the last byte's
+of clocks (docs/DESIGN.md, "Latencies"): the start by 2 clocks after the last byte's
 handshake, an edge by 2 to 3 clocks (synchronizer + edge detection). So
-|result - true / 1.6 us| < 1 tick + 2 clocks for edge mode and 1 tick + 1 clock for width.
+|result - true / 1.6 us| < 1 tick + 1 clock in both modes (the allowance below keeps one
+more clock of margin for the edge mode).
 """
 
 from __future__ import annotations

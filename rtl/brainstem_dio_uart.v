@@ -1,0 +1,168 @@
+`default_nettype none
+// brainstem_dio on a serial line: uart_rx -> RX FIFO -> brainstem_dio ->
+// (cmdQOverflow merge) -> uart_tx, with the heartbeat on as the original
+// module (HB_RATE 10 = 256 ms). Everything else is the core's contract.
+//
+// RX FIFO: bytes that arrive while the core holds its input (a reply still
+// waiting for the slower serial output) are kept, FIFO_DEPTH + 1 of them.
+// A byte that finds the FIFO full is dropped (rx_overflow pulses) and the
+// message cmdQOverflow `A, 2, 0x80, 12` is sent, once per overflow burst:
+// a burst starts with a dropped byte and ends when the FIFO has emptied.
+// The message goes out at the next packet boundary of the core's output
+// (never inside a packet), ahead of a core packet waiting at that boundary.
+// A host that waits for each reply before it sends the next command never
+// has more than one packet (at most 10 bytes) in the FIFO.
+module brainstem_dio_uart #(
+    parameter integer               CLK_HZ        = 48_000_000,
+    parameter integer               BAUD          = 9600,
+    parameter integer               FIFO_DEPTH    = 512,
+    parameter integer               MODULE_ADDR   = 2,
+    parameter integer               NUM_PINS      = 5,
+    parameter [NUM_PINS-1:0]        TIMER_MASK    = 5'b11110,
+    parameter [NUM_PINS-1:0]        FIXED_MASK    = 0,
+    parameter [8*NUM_PINS-1:0]      FIXED_CFG     = 0,
+    parameter integer               PIN_ID_BASE   = 5,
+    parameter integer               TIMER_ID_BASE = 10,
+    parameter integer               TRANS_ID_BASE = 15,
+    parameter integer               POLL_HZ       = 10_000,
+    parameter integer               RX_TIMEOUT_US = 25_600,
+    parameter integer               HB_RATE       = 10
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                rx,           // host -> module serial line (idle high)
+    output wire                tx,           // module -> host serial line
+    input  wire [NUM_PINS-1:0] pin_i,
+    output wire [NUM_PINS-1:0] pin_o,
+    output wire [NUM_PINS-1:0] pin_oe,
+    output wire [NUM_PINS-1:0] raw_trans,
+    output wire                rflx_valid,
+    output wire [5:0]          rflx_id,
+    output wire [15:0]         rflx_data,
+    output wire                link_up,
+    output wire                frame_err,    // one-clock strobe: a byte with a bad stop bit was dropped
+    output reg                 rx_overflow   // one-clock strobe (a clock late): a byte was dropped, FIFO full
+);
+    localparam integer MSG_CMD_Q_OVERFLOW = 12;
+
+    // ------------------------------------------------------------ receive
+    wire [7:0] rx_data;
+    wire       rx_valid;
+
+    uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
+        .clk         (clk),
+        .rst         (rst),
+        .rx_i        (rx),
+        .data_o      (rx_data),
+        .valid_o     (rx_valid),
+        .frame_err_o (frame_err)
+    );
+
+    wire       fifo_ready;
+    wire       fifo_empty;
+    wire [7:0] core_s_tdata;
+    wire       core_s_tvalid, core_s_tready;
+
+    bsd_fifo #(.WIDTH(8), .DEPTH(FIFO_DEPTH)) u_fifo (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  (rx_data),
+        .s_axis_tvalid (rx_valid),
+        .s_axis_tready (fifo_ready),
+        .m_axis_tdata  (core_s_tdata),
+        .m_axis_tvalid (core_s_tvalid),
+        .m_axis_tready (core_s_tready),
+        .empty_o       (fifo_empty)
+    );
+
+    // The serial line cannot wait: a byte the FIFO cannot take is lost.
+    wire drop = rx_valid && !fifo_ready;
+
+    reg burst_q;     // in an overflow burst (until the FIFO has emptied)
+    reg ovf_pend_q;  // cmdQOverflow waits to be sent
+    wire ovf_done;
+
+    always @(posedge clk) begin
+        rx_overflow <= drop;
+        if (drop) burst_q <= 1'b1;
+        else if (fifo_empty) burst_q <= 1'b0;
+        if (ovf_done) ovf_pend_q <= 1'b0;
+        // A new burst while the previous message still waits needs no second one.
+        if (drop && !burst_q) ovf_pend_q <= 1'b1;
+        if (rst) begin
+            rx_overflow <= 1'b0;
+            burst_q     <= 1'b0;
+            ovf_pend_q  <= 1'b0;
+        end
+    end
+
+    // ------------------------------------------------------------ the core
+    wire [7:0] core_m_tdata;
+    wire       core_m_tvalid, core_m_tready, core_m_tlast;
+
+    brainstem_dio #(
+        .CLK_HZ        (CLK_HZ),
+        .MODULE_ADDR   (MODULE_ADDR),
+        .NUM_PINS      (NUM_PINS),
+        .TIMER_MASK    (TIMER_MASK),
+        .FIXED_MASK    (FIXED_MASK),
+        .FIXED_CFG     (FIXED_CFG),
+        .PIN_ID_BASE   (PIN_ID_BASE),
+        .TIMER_ID_BASE (TIMER_ID_BASE),
+        .TRANS_ID_BASE (TRANS_ID_BASE),
+        .POLL_HZ       (POLL_HZ),
+        .RX_TIMEOUT_US (RX_TIMEOUT_US),
+        .HB_RATE       (HB_RATE)
+    ) u_core (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  (core_s_tdata),
+        .s_axis_tvalid (core_s_tvalid),
+        .s_axis_tready (core_s_tready),
+        .m_axis_tdata  (core_m_tdata),
+        .m_axis_tvalid (core_m_tvalid),
+        .m_axis_tready (core_m_tready),
+        .m_axis_tlast  (core_m_tlast),
+        .pin_i         (pin_i),
+        .pin_o         (pin_o),
+        .pin_oe        (pin_oe),
+        .raw_trans     (raw_trans),
+        .rflx_valid    (rflx_valid),
+        .rflx_id       (rflx_id),
+        .rflx_data     (rflx_data),
+        .link_up       (link_up)
+    );
+
+    // ------------------------------------------------------------ transmit
+    wire [7:0] tx_tdata;
+    wire       tx_tvalid, tx_tready;
+    wire       tx_tlast;
+
+    bsd_msg_merge #(.MODULE_ADDR(MODULE_ADDR), .CODE(MSG_CMD_Q_OVERFLOW)) u_merge (
+        .clk           (clk),
+        .rst           (rst),
+        .req_i         (ovf_pend_q),
+        .done_o        (ovf_done),
+        .s_axis_tdata  (core_m_tdata),
+        .s_axis_tvalid (core_m_tvalid),
+        .s_axis_tready (core_m_tready),
+        .s_axis_tlast  (core_m_tlast),
+        .m_axis_tdata  (tx_tdata),
+        .m_axis_tvalid (tx_tvalid),
+        .m_axis_tready (tx_tready),
+        .m_axis_tlast  (tx_tlast)
+    );
+
+    // Packet boundaries matter only to the merge; the line carries bytes.
+    wire unused_tx_tlast = tx_tlast;
+
+    uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  (tx_tdata),
+        .s_axis_tvalid (tx_tvalid),
+        .s_axis_tready (tx_tready),
+        .tx_o          (tx)
+    );
+endmodule
+`default_nettype wire

@@ -1,0 +1,70 @@
+`default_nettype none
+// Synchronous FIFO with AXI-Stream-style ports. DEPTH words (a power of two)
+// sit in a RAM with a registered read, which maps onto one iCE40 block RAM
+// (512 x 8) or any FPGA's; one more word sits in the output register, so it
+// holds DEPTH + 1 words. s_axis_tready and m_axis_tvalid come from flops only
+// (no combinational path from one side to the other).
+//
+// Latency: a word written into an empty FIFO is offered 2 clocks later.
+// The RAM is never read and written at the same address on one clock (a read
+// needs a word in the RAM, a write needs a free slot), so the RAM's
+// read-during-write behaviour does not matter.
+module bsd_fifo #(
+    parameter integer WIDTH = 8,
+    parameter integer DEPTH = 16
+) (
+    input  wire             clk,
+    input  wire             rst,
+    input  wire [WIDTH-1:0] s_axis_tdata,
+    input  wire             s_axis_tvalid,
+    output wire             s_axis_tready,
+    output reg  [WIDTH-1:0] m_axis_tdata,
+    output reg              m_axis_tvalid,
+    input  wire             m_axis_tready,
+    output wire             empty_o        // nothing stored, output register included
+);
+    localparam integer AW = $clog2(DEPTH);
+
+`ifndef SYNTHESIS
+    initial begin
+        if (DEPTH < 2 || (1 << AW) != DEPTH) begin
+            $display("bsd_fifo: DEPTH %0d is not a power of two >= 2", DEPTH);
+            $finish;
+        end
+    end
+`endif
+
+    reg [WIDTH-1:0] mem [0:DEPTH-1];
+    reg [AW:0]      wr_q;  // one wrap bit above the address
+    reg [AW:0]      rd_q;
+
+    wire ram_empty = (wr_q == rd_q);
+    wire ram_full  = (wr_q == {~rd_q[AW], rd_q[AW-1:0]});
+    wire push      = s_axis_tvalid && !ram_full;
+    wire pop       = !ram_empty && (!m_axis_tvalid || m_axis_tready);
+
+    assign s_axis_tready = !ram_full;
+    assign empty_o       = ram_empty && !m_axis_tvalid;
+
+    // RAM ports: no reset, so they map onto block RAM.
+    always @(posedge clk) begin
+        if (push) mem[wr_q[AW-1:0]] <= s_axis_tdata;
+    end
+
+    always @(posedge clk) begin
+        if (pop) m_axis_tdata <= mem[rd_q[AW-1:0]];
+    end
+
+    always @(posedge clk) begin
+        if (push) wr_q <= wr_q + 1'b1;
+        if (pop) rd_q <= rd_q + 1'b1;
+        if (pop) m_axis_tvalid <= 1'b1;
+        else if (m_axis_tready) m_axis_tvalid <= 1'b0;
+        if (rst) begin
+            wr_q          <= {(AW + 1){1'b0}};
+            rd_q          <= {(AW + 1){1'b0}};
+            m_axis_tvalid <= 1'b0;
+        end
+    end
+endmodule
+`default_nettype wire

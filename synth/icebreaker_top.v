@@ -1,0 +1,108 @@
+`default_nettype none
+// iCEBreaker (iCE40UP5K-SG48) board top for brainstem_dio_uart.
+//   CLK     12 MHz oscillator (pin 35)
+//   RX, TX  the FTDI's second channel, the host's serial port (pins 6, 9)
+//   P1A     PMOD 1A: digital pin p on P1A1, P1A2, P1A3, P1A4, P1A7, ... (pin 0..NUM_PINS-1)
+//   LEDG_N  link_up (the host answers heartbeats)
+//   LEDR_N  alive blink (1/8 of each ~1.4 s); lit ~170 ms after a framing error or RX overflow
+//   BTN_N   optional reset; the design resets itself at power-up
+// The pads of the digital pins are SB_IO tristates with the internal pull-up
+// on, so an unconnected input reads 1. This file instantiates iCE40 primitives
+// and is therefore kept out of rtl/ (the simulators build rtl/*.v).
+module icebreaker_top #(
+    parameter integer CLK_HZ   = 12_000_000,
+    parameter integer BAUD     = 9600,
+    parameter integer NUM_PINS = 5            // 1..8, GP 1.0 layout by default
+) (
+    input  wire       CLK,
+    input  wire       RX,
+    output wire       TX,
+    input  wire       BTN_N,
+    output wire       LEDR_N,
+    output wire       LEDG_N,
+    inout  wire [7:0] P1A
+);
+    // -------------------------------------------------- power-up reset
+    // iCE40 flops are 0 after configuration: rst stays 1 for 15 clocks after
+    // power-up, and again after BTN_N (synchronized) is pressed.
+    reg [1:0] btn_q = 2'b11;
+    reg [3:0] por_q = 4'd0;
+    always @(posedge CLK) begin
+        btn_q <= {btn_q[0], BTN_N};
+        if (por_q != 4'hF) por_q <= por_q + 1'b1;
+        if (!btn_q[1]) por_q <= 4'd0;
+    end
+    wire rst = (por_q != 4'hF);
+
+    // -------------------------------------------------- the module
+    wire [NUM_PINS-1:0] pin_i, pin_o, pin_oe, raw_trans;
+    wire                rflx_valid;
+    wire [5:0]          rflx_id;
+    wire [15:0]         rflx_data;
+    wire                link_up, frame_err, rx_overflow;
+
+    brainstem_dio_uart #(
+        .CLK_HZ   (CLK_HZ),
+        .BAUD     (BAUD),
+        .NUM_PINS (NUM_PINS)
+    ) u_dio (
+        .clk         (CLK),
+        .rst         (rst),
+        .rx          (RX),
+        .tx          (TX),
+        .pin_i       (pin_i),
+        .pin_o       (pin_o),
+        .pin_oe      (pin_oe),
+        .raw_trans   (raw_trans),
+        .rflx_valid  (rflx_valid),
+        .rflx_id     (rflx_id),
+        .rflx_data   (rflx_data),
+        .link_up     (link_up),
+        .frame_err   (frame_err),
+        .rx_overflow (rx_overflow)
+    );
+
+    // No on-board program listens to RFLX values or raw transitions here.
+    wire unused_dio = ^{raw_trans, rflx_valid, rflx_id, rflx_data};
+
+    // -------------------------------------------------- pads
+    genvar p;
+    generate
+        for (p = 0; p < 8; p = p + 1) begin : g_pad
+            wire din;
+            if (p < NUM_PINS) begin : g_pin
+                // PIN_TYPE 1010_01: output enabled by OUTPUT_ENABLE, plain
+                // (unregistered) input; the core synchronizes pin_i itself.
+                SB_IO #(.PIN_TYPE(6'b1010_01), .PULLUP(1'b1)) u_io (
+                    .PACKAGE_PIN   (P1A[p]),
+                    .OUTPUT_ENABLE (pin_oe[p]),
+                    .D_OUT_0       (pin_o[p]),
+                    .D_IN_0        (din)
+                );
+                assign pin_i[p] = din;
+            end else begin : g_spare
+                // Spare PMOD pins: inputs with the pull-up, never driven.
+                SB_IO #(.PIN_TYPE(6'b0000_01), .PULLUP(1'b1)) u_io (
+                    .PACKAGE_PIN (P1A[p]),
+                    .D_IN_0      (din)
+                );
+                wire unused_din = din;
+            end
+        end
+    endgenerate
+
+    // -------------------------------------------------- LEDs
+    // 2^24 clocks = 1.4 s at 12 MHz; the red LED is on for its last eighth.
+    reg [23:0] blink_q = 24'd0;
+    reg [21:0] err_q   = 22'd0;  // 2^21 clocks (~170 ms) of red after an error
+    always @(posedge CLK) begin
+        blink_q <= blink_q + 1'b1;
+        if (err_q != 22'd0) err_q <= err_q - 1'b1;
+        if (frame_err || rx_overflow) err_q <= 22'h3F_FFFF;
+        if (rst) err_q <= 22'd0;
+    end
+
+    assign LEDG_N = !link_up;
+    assign LEDR_N = !((&blink_q[23:21]) || (err_q != 22'd0));
+endmodule
+`default_nettype wire
