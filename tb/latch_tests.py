@@ -91,9 +91,10 @@ async def polling_grid(dut):
     if [q for _, q in fired] != [pin]:
         raise TBError(f"raw_trans {fired}, expected pin {pin} once")
     # Poll k strobes at the clock k * CLK_HZ / POLL_HZ after reset (± 1), then the
-    # synchronized level is compared, and raw_trans is registered.
-    phase = (fired[0][0] - t_reset) / period
-    off_clocks = (phase - round(phase)) * period * p.clk_hz
+    # synchronized level is compared, and raw_trans is registered. Counted in whole clocks.
+    clocks = round((fired[0][0] - t_reset) * p.clk_hz)
+    per_poll = p.clk_hz / p.poll_hz
+    off_clocks = clocks - round(clocks / per_poll) * per_poll
     if not 0 <= off_clocks <= 4:
         raise TBError(f"raw_trans {off_clocks:.2f} clocks off the poll grid")
     tb.log.info("raw_trans %.2f clocks after a poll", off_clocks)
