@@ -3,9 +3,9 @@
 // requesters born on the same clock rank by index (lowest first). Keeps an
 // age matrix by columns: older_q[K*i +: K] has bit j set when requester j is
 // older than requester i. The grant comes from registers only (the requests
-// and ages of the previous clock, and the requests of this one, which drop
-// when served), so a request is granted one clock after it rises at the
-// earliest.
+// and ages of the previous clock), so a request is granted one clock after it
+// rises at the earliest, and a request that has just dropped must be in
+// exclude_i for that one clock.
 module bsd_age_arb #(
     parameter integer K = 4
 ) (
@@ -19,7 +19,7 @@ module bsd_age_arb #(
     reg  [K*K-1:0] older_q;
     reg  [K*K-1:0] older_d;
     wire [K-1:0]   born = req_i & ~req_q;
-    wire [K-1:0]   cand = req_q & req_i & ~exclude_i;
+    wire [K-1:0]   cand = req_q & ~exclude_i;
 
     // below[i]: the requesters with a lower index than i.
     function [K-1:0] below(input integer i);

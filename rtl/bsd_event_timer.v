@@ -25,6 +25,7 @@ module bsd_event_timer (
     output reg  [15:0] result_o
 );
     localparam [15:0] TIMEOUT_TICKS = 16'hFFFF;
+    localparam [15:0] LAST_BEFORE   = TIMEOUT_TICKS - 16'd1;
 
     reg        running_q;
     reg        mode_q;
@@ -41,8 +42,13 @@ module bsd_event_timer (
     wire [15:0] elapsed_d   = elapsed_q + {15'd0, tick_i};
     wire [15:0] count_d     = count_q + {15'd0, tick_i};
     wire        complete    = mode_q ? (in_pulse_q && from_target) : to_target;
-    wire        timeout     = (elapsed_d == TIMEOUT_TICKS);
     wire        pulse_begin = mode_q && !in_pulse_q && to_target;
+    // The controls below compare registers, not the adders' sums, to keep the
+    // carry chains off the enables: elapsed_d reaches 65 535 exactly when a
+    // tick comes at 65 534, and count_d is 0 exactly when count_q is 0 and no
+    // tick comes (the counts stop below 65 535, so neither wraps).
+    wire        timeout     = tick_i && (elapsed_q == LAST_BEFORE);
+    wire        count_zero  = !tick_i && (count_q == 16'd0);
 
     assign busy_o = running_q || host_req_o || rflx_req_o;
 
@@ -66,7 +72,7 @@ module bsd_event_timer (
                 running_q  <= 1'b0;
                 host_req_o <= host_q;
                 rflx_req_o <= rflx_q;
-                result_o   <= !complete ? 16'd0 : (count_d == 16'd0) ? 16'd1 : count_d;
+                result_o   <= !complete ? 16'd0 : count_zero ? 16'd1 : count_d;
             end
         end
         if (host_done_i) host_req_o <= 1'b0;

@@ -4,7 +4,8 @@
 // (a byte has left, its tlast not yet), the message waits; while the message
 // is going out, the stream is held (s_axis_tready 0). Once the message's
 // first byte is offered it goes out whole. At a packet boundary a waiting
-// message goes first. req_i is a level; done_o pulses with the handshake of
+// message goes first, unless a stream byte is already offered and stalled
+// (AXI-Stream: an offered byte stays offered until taken). req_i is a level; done_o pulses with the handshake of
 // the message's last byte.
 module bsd_msg_merge #(
     parameter integer MODULE_ADDR = 2,
@@ -28,11 +29,12 @@ module bsd_msg_merge #(
     localparam [7:0] MSG_N    = 8'd2;
     localparam [7:0] CMD_MSG  = 8'h80;
 
-    reg       mid_q;  // a stream packet is part-way out
-    reg       msg_q;  // the message is part-way out (or offered)
-    reg [1:0] idx_q;  // message byte being offered
+    reg       mid_q;    // a stream packet is part-way out
+    reg       stall_q;  // a stream byte was offered and not taken: it stays offered
+    reg       msg_q;    // the message is part-way out (or offered)
+    reg [1:0] idx_q;    // message byte being offered
 
-    wire start = req_i && !mid_q && !msg_q;
+    wire start = req_i && !mid_q && !stall_q && !msg_q;
     wire msg   = msg_q || start;
     wire last  = (idx_q == 2'd3);
 
@@ -53,6 +55,7 @@ module bsd_msg_merge #(
     assign done_o        = msg && m_axis_tready && last;
 
     always @(posedge clk) begin
+        stall_q <= !msg && s_axis_tvalid && !m_axis_tready;
         if (msg) begin
             msg_q <= !(m_axis_tready && last);
             if (m_axis_tready) idx_q <= idx_q + 1'b1;
@@ -60,7 +63,8 @@ module bsd_msg_merge #(
             mid_q <= !s_axis_tlast;
         end
         if (rst) begin
-            mid_q <= 1'b0;
+            mid_q   <= 1'b0;
+            stall_q <= 1'b0;
             msg_q <= 1'b0;
             idx_q <= 2'd0;
         end

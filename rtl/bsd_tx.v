@@ -3,39 +3,57 @@
 // first. Source s offers N (0..4) and up to four data bytes; it keeps its
 // request up until done_o[s] pulses with the handshake of its last byte,
 // so a source is "delivered" only when its packet has left the core.
-// The next packet is loaded on that same clock: no idle cycle between packets.
+//
+// Two registers: the packet going out (a shift register) and the next one,
+// staged from the arbiter while the current one is sent. The output takes
+// the staged packet on the clock of its own last handshake, so packets leave
+// back to back, and m_axis_tready only gates register enables (the arbiter
+// and the source mux never wait for it). Later events are always younger, so
+// staging early never reorders packets.
 module bsd_tx #(
     parameter integer MODULE_ADDR = 2,
     parameter integer K           = 2
 ) (
-    input  wire          clk,
-    input  wire          rst,
-    input  wire [K-1:0]  req_i,
+    input  wire            clk,
+    input  wire            rst,
+    input  wire [K-1:0]    req_i,
     input  wire [3*K-1:0]  n_i,
     input  wire [32*K-1:0] data_i,   // source s: data_i[32*s+24 +: 8] is d0
-    output reg  [K-1:0]  done_o,
-    output wire [7:0]    m_axis_tdata,
-    output wire          m_axis_tvalid,
-    input  wire          m_axis_tready,
-    output wire          m_axis_tlast
+    output reg  [K-1:0]    done_o,
+    output wire [7:0]      m_axis_tdata,
+    output wire            m_axis_tvalid,
+    input  wire            m_axis_tready,
+    output wire            m_axis_tlast
 );
     localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
 
+    // The packet going out.
     reg  [47:0]  buf_q;    // bytes still to send, first in the top byte
     reg  [2:0]   left_q;   // bytes still to send
     reg          valid_q;
-    reg  [K-1:0] cur_q;    // the source being sent
-    wire [K-1:0] gnt;
+    reg  [K-1:0] cur_q;    // its source
+    // The next packet.
+    reg  [2:0]   next_n_q;
+    reg  [31:0]  next_data_q;
+    reg          next_valid_q;
+    reg  [K-1:0] next_src_q;
 
-    wire last = (left_q == 3'd1);
-    wire hs   = valid_q && m_axis_tready;
-    wire load = (!valid_q || (hs && last)) && (|gnt);
+    reg  [K-1:0] done_q;   // sources whose request falls this clock
+
+    wire [K-1:0] gnt;
+    wire last  = (left_q == 3'd1);
+    wire hs    = valid_q && m_axis_tready;
+    wire load  = next_valid_q && (!valid_q || (hs && last));
+    // The staging register samples the arbiter whenever it is free: its
+    // enable never waits for the grant.
+    wire stage = !next_valid_q || load;
 
     bsd_age_arb #(.K(K)) u_arb (
         .clk       (clk),
         .rst       (rst),
         .req_i     (req_i),
-        .exclude_i (valid_q ? cur_q : {K{1'b0}}),
+        .exclude_i ((valid_q ? cur_q : {K{1'b0}}) |
+                    (next_valid_q ? next_src_q : {K{1'b0}}) | done_q),
         .gnt_o     (gnt)
     );
 
@@ -56,20 +74,32 @@ module bsd_tx #(
 
     always @(posedge clk) begin
         if (load) begin
-            buf_q   <= {ADDR_OWN, 5'd0, sel_n, sel_data};
-            left_q  <= sel_n + 3'd2;
+            buf_q   <= {ADDR_OWN, 5'd0, next_n_q, next_data_q};
+            left_q  <= next_n_q + 3'd2;
             valid_q <= 1'b1;
-            cur_q   <= gnt;
+            cur_q   <= next_src_q;
         end else if (hs) begin
             buf_q   <= {buf_q[39:0], 8'd0};
             left_q  <= left_q - 3'd1;
             if (last) valid_q <= 1'b0;
         end
+        if (stage) begin
+            next_n_q     <= sel_n;
+            next_data_q  <= sel_data;
+            next_src_q   <= gnt;
+            next_valid_q <= |gnt;
+        end
+        done_q <= done_o;
         if (rst) begin
-            buf_q   <= 48'd0;
-            left_q  <= 3'd0;
-            valid_q <= 1'b0;
-            cur_q   <= {K{1'b0}};
+            buf_q        <= 48'd0;
+            left_q       <= 3'd0;
+            valid_q      <= 1'b0;
+            cur_q        <= {K{1'b0}};
+            next_n_q     <= 3'd0;
+            next_data_q  <= 32'd0;
+            next_valid_q <= 1'b0;
+            next_src_q   <= {K{1'b0}};
+            done_q       <= {K{1'b0}};
         end
     end
 

@@ -391,21 +391,21 @@ What costs most:
   only drives `raw_trans`; its own reset and LED counters cost a few dozen LUT4s."""
 
 TIMING = """\
-The critical paths are inside the core, not in the serial link: the core placed alone in its
-harness is no faster than the board top. nextpnr's critical-path reports (`synth/build/*/pnr_s*.log`)
-name, depending on the seed:
-- `bsd_parser`'s packet registers (`pkt_d1`) → `bsd_exec`'s pin mux (the addressed pin's DIGCFG,
-  level and timer-busy bit) → the error-precedence chain → the clock enable of the reply slot
-  (`rep_req_o`, `rep_data_o`);
-- a timer's `host_req` → `bsd_age_arb`'s grant → `bsd_tx`'s `load` → the clock enable of the output
-  buffer `buf_q`.
-Each is about ten LUT levels; on the UP5K (the slowest iCE40) a LUT level with its routing costs
-about 2.5–3 ns. The link keeps its own paths short (`uart_tx` offers `s_axis_tready` from a flop,
-the FIFO's `m_axis_tvalid` and `s_axis_tready` come from flops, the merge adds one LUT level in
-front of the core's `m_axis_tready`). Reaching 48 MHz needs a pipeline stage in the core: look
-up the addressed pin's state one clock before a command executes, and register the arbiter's
-grant before `bsd_tx` loads it. That is the core owner's decision (it changes the latencies in
-DESIGN.md); until then the board closes timing at 12 MHz with the margin shown above."""
+The core already splits its two longest paths of an earlier version: the executor looks up the
+addressed pin's state one clock before it acts, the arbiter's grant comes from registers, and
+`bsd_tx` stages the next packet so `m_axis_tready` only gates enables (docs/DESIGN.md,
+"Latencies"). That took the 5-pin core from about 31 to about 41 MHz. What nextpnr's
+critical-path reports (`synth/build/*/pnr_s*.log`) name now, depending on the seed:
+- in the board top: the RX FIFO's block-RAM read data → `bsd_parser`'s byte decode (the length
+  byte's value decides whether it may be taken while a reply waits, DESIGN.md 2) → the accept
+  strobe → the clock enables of the packet registers;
+- in the bare core: the executor's second stage (command decode and error precedence) → the
+  re-arm strobe → the transition latches' enables.
+Each is six to eight LUT levels, most of the delay routing; on the UP5K (the slowest iCE40) a
+level with its routing costs about 3 ns. Further steps towards 48 MHz: an output register on
+the FIFO (or a skid buffer in front of the parser), and registering the executor's strobes
+(one more clock of command latency). Until then the board closes timing at 12 MHz with the
+margin shown above."""
 
 
 def explain_warning(x: str) -> str:
