@@ -16,23 +16,15 @@ text; directed tests additionally assert explicit numbers computed from the stim
 
 from __future__ import annotations
 
-import os
-import random
 
 import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
+from seeding import make_rng
+
 PERIOD_NS = 10
 TIMEOUT = 65_535
-
-
-def make_rng(dut, name: str) -> random.Random:
-    """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
-    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
-    regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
-    dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
-    return random.Random(cocotb.RANDOM_SEED)
 
 
 class TimerModel:

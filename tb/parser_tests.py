@@ -28,11 +28,12 @@ DESIGN.md decisions 2 and 10), written from the contract:
 from __future__ import annotations
 
 import os
-import random
 
 import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
+
+from seeding import make_rng
 
 PERIOD_NS = 10
 ADDR_RESYNC = 0xAD
@@ -48,14 +49,6 @@ def timeout_ticks(us: int) -> int:
 
 
 T_TICKS = timeout_ticks(RX_TIMEOUT_US) if RX_TIMEOUT_US else None
-
-
-def make_rng(dut, name: str) -> random.Random:
-    """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
-    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
-    regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
-    dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
-    return random.Random(cocotb.RANDOM_SEED)
 
 
 class FramingModel:

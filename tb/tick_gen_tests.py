@@ -16,12 +16,12 @@ set by tb/test_blocks.py together with the same values as HDL parameters.
 from __future__ import annotations
 
 import os
-import random
 
 import cocotb
 from cocotb.clock import Clock
 from cocotb.simtime import get_sim_time
 from cocotb.triggers import (
+
     ClockCycles,
     FallingEdge,
     ReadOnly,
@@ -29,19 +29,13 @@ from cocotb.triggers import (
     with_timeout,
 )
 
+from seeding import make_rng
+
 PERIOD_NS = 10
 
 
 def now_ns() -> int:
     return int(round(get_sim_time("ns")))
-
-
-def make_rng(dut, name: str) -> random.Random:
-    """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
-    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
-    regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
-    dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
-    return random.Random(cocotb.RANDOM_SEED)
 
 
 class TickGenTB:

@@ -7,22 +7,14 @@ on clock n" below means fire_o is 1 right after the n-th stepped rising edge.
 
 from __future__ import annotations
 
-import os
-import random
 
 import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
+from seeding import make_rng
+
 PERIOD_NS = 10
-
-
-def make_rng(dut, name: str) -> random.Random:
-    """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
-    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
-    regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
-    dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
-    return random.Random(cocotb.RANDOM_SEED)
 
 
 class LatchModel:

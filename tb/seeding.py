@@ -1,0 +1,16 @@
+"""Seeded randomness for the block-level cocotb tests."""
+
+from __future__ import annotations
+
+import os
+import random
+
+import cocotb
+
+
+def make_rng(dut, name: str) -> random.Random:
+    """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
+    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
+    regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
+    dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
+    return random.Random(cocotb.RANDOM_SEED)
