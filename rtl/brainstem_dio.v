@@ -50,6 +50,7 @@ module brainstem_dio #(
     // ---------------------------------------------------------------- checks
 `ifndef SYNTHESIS
     // Device IDs are 6 bits: every pin's level ID and every timer pin's ID.
+    // (A Verilog-2005 function needs an argument, hence the unused one.)
     function integer top_timer_pin(input integer unused);
         integer q;
         begin
