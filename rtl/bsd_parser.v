@@ -39,9 +39,14 @@ module bsd_parser #(
     reg           own_q;
     reg           probe_q;
     reg  [3:0]    cnt_q;
+    reg           last_q;   // the next data byte is the packet's last
     reg  [TW-1:0] idle_q;
 
-    wire last_data = (cnt_q + 4'd1 == pkt_n_o);
+    // Decoded from registers and plain gates, not adders or magnitude
+    // comparators: these feed s_axis_tready and the accept strobe.
+    wire last_data = last_q;
+    wire len_zero  = ~|s_axis_tdata;
+    wire len_over  = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));  // > 8
 
     // The last byte of a packet that can need the reply slot waits while the
     // slot is (or is about to be) full, so execution itself never waits. That
@@ -51,7 +56,7 @@ module bsd_parser #(
     // AXI-Stream allows (with tvalid 0 it is 1 there, so an idle input counts
     // towards the timeout). Every other byte streams at one per clock.
     wire may_reply = (state_q == ST_LEN && s_axis_tvalid &&
-                      ((probe_q && s_axis_tdata == 8'd0) || (own_q && s_axis_tdata > MAX_N))) ||
+                      ((probe_q && len_zero) || (own_q && len_over))) ||
                      (state_q == ST_DATA && own_q && last_data);
 
     assign s_axis_tready = !rst && !(hold_i && may_reply);
@@ -78,11 +83,12 @@ module bsd_parser #(
                 ST_LEN: begin
                     pkt_n_o <= s_axis_tdata[3:0];
                     cnt_q   <= 4'd0;
-                    if (s_axis_tdata > MAX_N) begin
+                    last_q  <= s_axis_tdata == 8'd1;
+                    if (len_over) begin
                         pkt_valid_o <= own_q;
                         pkt_kind_o  <= KIND_SERIAL;
                         state_q     <= ST_ADDR;
-                    end else if (s_axis_tdata == 8'd0) begin
+                    end else if (len_zero) begin
                         pkt_valid_o <= probe_q;
                         pkt_kind_o  <= KIND_PROBE;
                         state_q     <= ST_ADDR;
@@ -97,7 +103,8 @@ module bsd_parser #(
                         4'd2:    pkt_d2_o <= s_axis_tdata;
                         default: ;
                     endcase
-                    cnt_q <= cnt_q + 4'd1;
+                    cnt_q  <= cnt_q + 4'd1;
+                    last_q <= cnt_q + 4'd2 == pkt_n_o;
                     if (last_data) begin
                         pkt_valid_o <= own_q;
                         pkt_kind_o  <= KIND_CMD;
@@ -112,6 +119,7 @@ module bsd_parser #(
             own_q       <= 1'b0;
             probe_q     <= 1'b0;
             cnt_q       <= 4'd0;
+            last_q      <= 1'b0;
             idle_q      <= {TW{1'b0}};
             pkt_valid_o <= 1'b0;
             pkt_kind_o  <= KIND_CMD;
