@@ -391,21 +391,22 @@ What costs most:
   only drives `raw_trans`; its own reset and LED counters cost a few dozen LUT4s."""
 
 TIMING = """\
-The core already splits its two longest paths of an earlier version: the executor looks up the
-addressed pin's state one clock before it acts, the arbiter's grant comes from registers, and
-`bsd_tx` stages the next packet so `m_axis_tready` only gates enables (docs/DESIGN.md,
-"Latencies"). That took the 5-pin core from about 31 to about 41 MHz. What nextpnr's
-critical-path reports (`synth/build/*/pnr_s*.log`) name now, depending on the seed:
-- in the board top: the RX FIFO's block-RAM read data → `bsd_parser`'s byte decode (the length
-  byte's value decides whether it may be taken while a reply waits, DESIGN.md 2) → the accept
-  strobe → the clock enables of the packet registers;
-- in the bare core: the executor's second stage (command decode and error precedence) → the
-  re-arm strobe → the transition latches' enables.
+The core already splits the longest paths of an earlier version (31 MHz): the executor looks up
+the addressed pin's state one clock before it acts, the arbiter's grant comes from registers,
+`bsd_tx` stages the next packet so `m_axis_tready` only gates enables, the timer's controls and
+the parser's byte decode avoid adders (docs/DESIGN.md, "Latencies"). What nextpnr's critical-path
+reports (`synth/build/*/pnr_s*.log`) name now, depending on the seed:
+- in the bare core: a timer's `rflx_req` → `bsd_rflx_arb`'s lowest-waiting-timer encoder and its
+  device-ID comparison with the waiting DIG_IO value (a carry chain) → the RFLX strobe registers;
+- in the board top: `bsd_msg_merge`'s state → the core's `m_axis_tready` → `bsd_tx`'s enables;
+  and the parser's accept strobe → the packet registers' enables.
 Each is six to eight LUT levels, most of the delay routing; on the UP5K (the slowest iCE40) a
-level with its routing costs about 3 ns. Further steps towards 48 MHz: an output register on
-the FIFO (or a skid buffer in front of the parser), and registering the executor's strobes
-(one more clock of command latency). Until then the board closes timing at 12 MHz with the
-margin shown above."""
+level with its routing costs about 3 ns. Further steps towards 48 MHz: decide the RFLX winner a
+clock earlier (or compare device IDs as one-hot vectors), an output register after the merge,
+and registering the executor's state-change strobes (one more clock of command latency; then a
+timer's and a latch's pad path need one more flop too, so that an edge arriving with the
+command's last byte still counts after the start, as it does now). Until then the board closes
+timing at 12 MHz with the margin shown above."""
 
 
 def explain_warning(x: str) -> str:
