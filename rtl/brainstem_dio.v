@@ -139,13 +139,15 @@ module brainstem_dio #(
     wire [31:0]           rep_data;
     wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
     wire [5:0]            dio_rflx_id;
-    wire                  exec_busy;
+    wire [NUM_PINS-1:0]   dio_rflx_below;
+    wire                  exec_hold;
 
     bsd_exec #(
-        .NUM_PINS    (NUM_PINS),
-        .TIMER_MASK  (TIMER_MASK),
-        .FIXED_MASK  (FIXED_MASK),
-        .PIN_ID_BASE (PIN_ID_BASE)
+        .NUM_PINS      (NUM_PINS),
+        .TIMER_MASK    (TIMER_MASK),
+        .FIXED_MASK    (FIXED_MASK),
+        .PIN_ID_BASE   (PIN_ID_BASE),
+        .TIMER_ID_BASE (TIMER_ID_BASE)
     ) u_exec (
         .clk             (clk),
         .rst             (rst),
@@ -158,7 +160,7 @@ module brainstem_dio #(
         .cfg_i           (cfg),
         .level_i         (level),
         .timer_busy_i    (timer_busy),
-        .busy_o          (exec_busy),
+        .hold_o          (exec_hold),
         .cfg_we_o        (cfg_we),
         .out_we_o        (out_we),
         .pin_o           (wr_pin),
@@ -177,12 +179,13 @@ module brainstem_dio #(
         .dio_rflx_req_o  (dio_rflx_req),
         .dio_rflx_id_o   (dio_rflx_id),
         .dio_rflx_val_o  (dio_rflx_val),
+        .dio_rflx_below_o(dio_rflx_below),
         .dio_rflx_done_i (dio_rflx_done)
     );
 
-    // Hold the last byte of a packet that may need the reply slot or the
-    // DIG_IO RFLX slot while either is full or about to be filled.
-    assign hold = rep_req || dio_rflx_req || exec_busy;
+    // The parser holds a packet that may need the reply slot or the DIG_IO
+    // RFLX slot while either is full or about to be filled.
+    assign hold = exec_hold;
 
     bsd_cfg_regs #(
         .NUM_PINS   (NUM_PINS),
@@ -317,6 +320,7 @@ module brainstem_dio #(
         .dio_req_i      (dio_rflx_req),
         .dio_id_i       (dio_rflx_id),
         .dio_val_i      (dio_rflx_val),
+        .dio_below_i    (dio_rflx_below),
         .dio_done_o     (dio_rflx_done),
         .timer_req_i    (timer_rflx_req),
         .timer_result_i (timer_result),

@@ -4,7 +4,8 @@
 // module (HB_RATE 10 = 256 ms). Everything else is the core's contract.
 //
 // RX FIFO: bytes that arrive while the core holds its input (a reply still
-// waiting for the slower serial output) are kept, FIFO_DEPTH + 1 of them.
+// waiting for the slower serial output) are kept, FIFO_DEPTH + 3 of them
+// (the RAM, the FIFO's output register, the register slice in front of the core).
 // A byte that finds the FIFO full is dropped (rx_overflow pulses) and the
 // message cmdQOverflow `A, 2, 0x80, 12` is sent, once per overflow burst:
 // a burst starts with a dropped byte and ends when the FIFO has emptied.
@@ -60,8 +61,8 @@ module brainstem_dio_uart #(
 
     wire       fifo_ready;
     wire       fifo_empty;
-    wire [7:0] core_s_tdata;
-    wire       core_s_tvalid, core_s_tready;
+    wire [7:0] fifo_tdata;
+    wire       fifo_tvalid, fifo_tready;
 
     bsd_fifo #(.WIDTH(8), .DEPTH(FIFO_DEPTH)) u_fifo (
         .clk           (clk),
@@ -69,10 +70,28 @@ module brainstem_dio_uart #(
         .s_axis_tdata  (rx_data),
         .s_axis_tvalid (rx_valid),
         .s_axis_tready (fifo_ready),
+        .m_axis_tdata  (fifo_tdata),
+        .m_axis_tvalid (fifo_tvalid),
+        .m_axis_tready (fifo_tready),
+        .empty_o       (fifo_empty)
+    );
+
+    // A register slice between the FIFO and the core, so that the core's
+    // s_axis_tready (which depends on the parser's state and the offered
+    // byte) drives only the slice's enables, not the FIFO's block-RAM read.
+    // It holds one more byte, so the input keeps FIFO_DEPTH + 3 in all.
+    wire [7:0] core_s_tdata;
+    wire       core_s_tvalid, core_s_tready;
+
+    bsd_axis_skid #(.WIDTH(8)) u_in_slice (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  (fifo_tdata),
+        .s_axis_tvalid (fifo_tvalid),
+        .s_axis_tready (fifo_tready),
         .m_axis_tdata  (core_s_tdata),
         .m_axis_tvalid (core_s_tvalid),
-        .m_axis_tready (core_s_tready),
-        .empty_o       (fifo_empty)
+        .m_axis_tready (core_s_tready)
     );
 
     // The serial line cannot wait: a byte the FIFO cannot take is lost.
@@ -134,27 +153,60 @@ module brainstem_dio_uart #(
     );
 
     // ------------------------------------------------------------ transmit
-    wire [7:0] tx_tdata;
-    wire       tx_tvalid, tx_tready;
-    wire       tx_tlast;
+    // A register slice between the core and the merge, so that the merge's
+    // and the UART's handshake logic and the core's output logic are never
+    // one combinational path (it keeps the board top's Fmax up).
+    wire [7:0] out_tdata;
+    wire       out_tvalid, out_tready, out_tlast;
+
+    bsd_axis_skid #(.WIDTH(9)) u_out_slice (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  ({core_m_tlast, core_m_tdata}),
+        .s_axis_tvalid (core_m_tvalid),
+        .s_axis_tready (core_m_tready),
+        .m_axis_tdata  ({out_tlast, out_tdata}),
+        .m_axis_tvalid (out_tvalid),
+        .m_axis_tready (out_tready)
+    );
+
+    wire [7:0] mrg_tdata;
+    wire       mrg_tvalid, mrg_tready;
+    wire       mrg_tlast;
 
     bsd_msg_merge #(.MODULE_ADDR(MODULE_ADDR), .CODE(MSG_CMD_Q_OVERFLOW)) u_merge (
         .clk           (clk),
         .rst           (rst),
         .req_i         (ovf_pend_q),
         .done_o        (ovf_done),
-        .s_axis_tdata  (core_m_tdata),
-        .s_axis_tvalid (core_m_tvalid),
-        .s_axis_tready (core_m_tready),
-        .s_axis_tlast  (core_m_tlast),
-        .m_axis_tdata  (tx_tdata),
-        .m_axis_tvalid (tx_tvalid),
-        .m_axis_tready (tx_tready),
-        .m_axis_tlast  (tx_tlast)
+        .s_axis_tdata  (out_tdata),
+        .s_axis_tvalid (out_tvalid),
+        .s_axis_tready (out_tready),
+        .s_axis_tlast  (out_tlast),
+        .m_axis_tdata  (mrg_tdata),
+        .m_axis_tvalid (mrg_tvalid),
+        .m_axis_tready (mrg_tready),
+        .m_axis_tlast  (mrg_tlast)
     );
 
     // Packet boundaries matter only to the merge; the line carries bytes.
-    wire unused_tx_tlast = tx_tlast;
+    wire unused_mrg_tlast = mrg_tlast;
+
+    // And one more slice, so the merge's choice does not reach into the
+    // UART's shift register in the same clock.
+    wire [7:0] tx_tdata;
+    wire       tx_tvalid, tx_tready;
+
+    bsd_axis_skid #(.WIDTH(8)) u_tx_slice (
+        .clk           (clk),
+        .rst           (rst),
+        .s_axis_tdata  (mrg_tdata),
+        .s_axis_tvalid (mrg_tvalid),
+        .s_axis_tready (mrg_tready),
+        .m_axis_tdata  (tx_tdata),
+        .m_axis_tvalid (tx_tvalid),
+        .m_axis_tready (tx_tready)
+    );
 
     uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
         .clk           (clk),

@@ -25,7 +25,7 @@ module bsd_event_timer (
     output reg  [15:0] result_o
 );
     localparam [15:0] TIMEOUT_TICKS = 16'hFFFF;
-    localparam [15:0] LAST_BEFORE   = TIMEOUT_TICKS - 16'd1;
+    localparam [15:0] LAST_BEFORE   = TIMEOUT_TICKS - 16'd1;  // 65 534
 
     reg        running_q;
     reg        mode_q;
@@ -36,49 +36,73 @@ module bsd_event_timer (
     reg        in_pulse_q;    // width mode: the target level has begun
     reg [15:0] elapsed_q;     // ticks since the start, for the timeout
     reg [15:0] count_q;       // ticks of the measured interval
+    // The completion test, prepared a clock ahead so that finishing reads a
+    // few flops and the pad level instead of comparators and mode muxes:
+    reg        armed_q;       // running, and a pad level of want_q completes now
+    reg        want_q;        // edge mode: TSTATE; width mode: its opposite
+    reg        at_last_q;     // running and elapsed_q == 65 534: the next tick times out
+    reg        count_zero_q;  // count_q == 0
 
-    wire        to_target   = (prev_q != target_q) && (level_i == target_q);
-    wire        from_target = (prev_q == target_q) && (level_i != target_q);
+    wire        at_target   = level_i == target_q;
+    wire        pulse_begin = mode_q && !in_pulse_q && (prev_q != target_q) && at_target;
     wire [15:0] elapsed_d   = elapsed_q + {15'd0, tick_i};
     wire [15:0] count_d     = count_q + {15'd0, tick_i};
-    wire        complete    = mode_q ? (in_pulse_q && from_target) : to_target;
-    wire        pulse_begin = mode_q && !in_pulse_q && to_target;
-    // The controls below compare registers, not the adders' sums, to keep the
-    // carry chains off the enables: elapsed_d reaches 65 535 exactly when a
-    // tick comes at 65 534, and count_d is 0 exactly when count_q is 0 and no
-    // tick comes (the counts stop below 65 535, so neither wraps).
-    wire        timeout     = tick_i && (elapsed_q == LAST_BEFORE);
-    wire        count_zero  = !tick_i && (count_q == 16'd0);
+    wire        complete    = armed_q && (level_i == want_q);
+    // Flags instead of the adders' sums keep the carry chains off the
+    // enables: elapsed_d reaches 65 535 exactly when a tick comes at 65 534,
+    // and count_d is 0 exactly when count_q is 0 and no tick comes (the
+    // counts stop below 65 535, so neither wraps).
+    wire        timeout     = tick_i && at_last_q;
+    wire        count_zero  = !tick_i && count_zero_q;
+    wire        finish      = complete || timeout;
 
     assign busy_o = running_q || host_req_o || rflx_req_o;
 
+    // A start needs an idle timer (not running), so the two branches below
+    // never meet; they are written apart so that finishing does not wait for
+    // the start decision.
     always @(posedge clk) begin
         if (start_i && !busy_o) begin
-            running_q  <= 1'b1;
-            mode_q     <= mode_i;
-            target_q   <= target_i;
-            host_q     <= host_i;
-            rflx_q     <= rflx_i;
-            prev_q     <= level_i;
-            in_pulse_q <= 1'b0;
-            elapsed_q  <= 16'd0;
-            count_q    <= 16'd0;
-        end else if (running_q) begin
-            prev_q    <= level_i;
-            elapsed_q <= elapsed_d;
-            count_q   <= pulse_begin ? 16'd0 : count_d;
+            running_q    <= 1'b1;
+            mode_q       <= mode_i;
+            target_q     <= target_i;
+            host_q       <= host_i;
+            rflx_q       <= rflx_i;
+            prev_q       <= level_i;
+            in_pulse_q   <= 1'b0;
+            elapsed_q    <= 16'd0;
+            count_q      <= 16'd0;
+            // Edge mode completes on the first clock the pad reaches the
+            // target from elsewhere; width mode first waits for that edge.
+            armed_q      <= !mode_i && (level_i != target_i);
+            want_q       <= mode_i ? !target_i : target_i;
+            at_last_q    <= 1'b0;
+            count_zero_q <= 1'b1;
+        end
+        if (running_q) begin
+            prev_q       <= level_i;
+            elapsed_q    <= elapsed_d;
+            count_q      <= pulse_begin ? 16'd0 : count_d;
+            count_zero_q <= pulse_begin || count_zero;
             if (pulse_begin) in_pulse_q <= 1'b1;
-            if (complete || timeout) begin
-                running_q  <= 1'b0;
-                host_req_o <= host_q;
-                rflx_req_o <= rflx_q;
-                result_o   <= !complete ? 16'd0 : count_zero ? 16'd1 : count_d;
-            end
+            armed_q      <= mode_q ? (in_pulse_q || pulse_begin) && at_target : !at_target;
+            // elapsed_q moves only on a tick: compare the register, not the sum.
+            if (tick_i) at_last_q <= elapsed_q == LAST_BEFORE - 16'd1;
+        end
+        if (finish) begin
+            running_q  <= 1'b0;
+            armed_q    <= 1'b0;
+            at_last_q  <= 1'b0;
+            host_req_o <= host_q;
+            rflx_req_o <= rflx_q;
+            result_o   <= !complete ? 16'd0 : count_zero ? 16'd1 : count_d;
         end
         if (host_done_i) host_req_o <= 1'b0;
         if (rflx_done_i) rflx_req_o <= 1'b0;
         if (rst) begin
             running_q  <= 1'b0;
+            armed_q    <= 1'b0;
+            at_last_q  <= 1'b0;
             host_req_o <= 1'b0;
             rflx_req_o <= 1'b0;
             result_o   <= 16'd0;

@@ -1,16 +1,20 @@
 `default_nettype none
-// Executes one packet from the parser in two clocks: the first looks up the
-// addressed pin's state (a wide mux on many-pin builds) into registers; the
-// second decides the outcome with the contract's precedence (cmdInvalid,
-// cmdTooShort, the command's own error, then the action and cmdTooLong) and
-// drives the state changes as one-clock strobes. Packets come at least three
-// clocks apart, so the stages never overlap. Holds the one waiting reply (a
-// packet of up to 4 data bytes) and the one waiting DIG_IO RFLX value.
+// Executes one packet from the parser in two clocks. The first looks up the
+// addressed pin's state (a wide mux on many-pin builds) and decides the
+// state changes (configuration and output writes, re-arms, timer starts, the
+// heartbeat answer) into registers, so that those strobes leave this module
+// straight from flops. The second drives them and decides the reply or
+// message with the contract's precedence (cmdInvalid, cmdTooShort, the
+// command's own error, then the action and cmdTooLong). Packets come at
+// least three clocks apart, so the stages never overlap. Holds the one
+// waiting reply (a packet of up to 4 data bytes) and the one waiting DIG_IO
+// RFLX value.
 module bsd_exec #(
     parameter integer        NUM_PINS    = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK  = 5'b11110,
     parameter [NUM_PINS-1:0] FIXED_MASK  = 0,
-    parameter integer        PIN_ID_BASE = 5
+    parameter integer        PIN_ID_BASE   = 5,
+    parameter integer        TIMER_ID_BASE = 10
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -25,20 +29,20 @@ module bsd_exec #(
     input  wire [5*NUM_PINS-1:0] cfg_i,
     input  wire [NUM_PINS-1:0]   level_i,
     input  wire [NUM_PINS-1:0]   timer_busy_i,
-    output wire                  busy_o,      // a packet is being executed
+    output wire                  hold_o,      // a packet that may need a slot must wait
     // configuration register file
-    output reg                   cfg_we_o,
-    output reg                   out_we_o,
+    output wire                  cfg_we_o,
+    output wire                  out_we_o,
     output wire [5:0]            pin_o,
     output wire [4:0]            cfg_o,
     output wire                  out_o,
-    output reg  [NUM_PINS-1:0]   rearm_o,
+    output wire [NUM_PINS-1:0]   rearm_o,
     // timers: start one, with the DEVCODE's delivery bits
-    output reg  [NUM_PINS-1:0]   timer_start_o,
+    output wire [NUM_PINS-1:0]   timer_start_o,
     output wire                  timer_host_o,
     output wire                  timer_rflx_o,
     // heartbeat answer from the host
-    output reg                   hb_answer_o,
+    output wire                  hb_answer_o,
     output wire [7:0]            hb_type_o,
     // the waiting reply: A, rep_n, rep_data[31:24] ...
     output reg                   rep_req_o,
@@ -49,6 +53,7 @@ module bsd_exec #(
     output reg                   dio_rflx_req_o,
     output reg  [5:0]            dio_rflx_id_o,
     output reg                   dio_rflx_val_o,
+    output reg  [NUM_PINS-1:0]   dio_rflx_below_o,  // its device ID is below pin p's timer ID
     input  wire                  dio_rflx_done_i
 );
     `include "bsd_protocol.vh"
@@ -57,88 +62,145 @@ module bsd_exec #(
     localparam [7:0] NUM_PINS_W = NUM_PINS[7:0];
     localparam [5:0] PIN_ID_W   = PIN_ID_BASE[5:0];
 
-    // ------------------------------------------------ stage 1: pin lookup
+    // ------------------------------ stage 1: pin lookup and state-change decisions
     // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
     wire [5:0] pin_in = pkt_d1_i[5:0];
 
-    // The addressed pin's state. Out-of-range pins read as zero; every use
-    // below is qualified by pin_ok_q or dev_ok_q.
+    // The addressed pin's state for stage 2's replies and messages.
+    // Out-of-range pins read as zero; every use below is qualified by
+    // pin_ok_q or dev_ok_q.
     reg [4:0]          look_cfg;
     reg                look_level;
     reg                look_fixed;
     reg                look_has_timer;
-    reg                look_timer_busy;
-    reg [NUM_PINS-1:0] look_onehot;
     integer i;
     always @* begin
         look_cfg        = 5'd0;
         look_level      = 1'b0;
         look_fixed      = 1'b0;
         look_has_timer  = 1'b0;
-        look_timer_busy = 1'b0;
-        look_onehot     = {NUM_PINS{1'b0}};
         for (i = 0; i < NUM_PINS; i = i + 1) begin
             if (pin_in == i[5:0]) begin
                 look_cfg        = cfg_i[5*i +: 5];
                 look_level      = level_i[i];
                 look_fixed      = FIXED_MASK[i];
                 look_has_timer  = TIMER_MASK[i];
-                look_timer_busy = timer_busy_i[i];
-                look_onehot[i]  = 1'b1;
             end
         end
     end
 
-    reg                s_valid_q;
-    reg [1:0]          s_kind_q;
-    reg [3:0]          s_n_q;
-    reg [7:0]          s_d0_q, s_d1_q, s_d2_q;
-    reg                pin_ok_q, dev_ok_q;
-    reg [4:0]          pin_cfg_q;
-    reg                pin_level_q, pin_fixed_q, pin_has_timer_q, pin_timer_busy_q;
-    reg [NUM_PINS-1:0] pin_onehot_q;
+    // The packet's kind, command and length as single flags, and the
+    // decided state changes, worked out per pin (each pin's own bits and its
+    // own address compare), so they do not wait for the lookup mux above.
+    wire is_cmd = pkt_valid_i && pkt_kind_i == KIND_CMD;
+    wire n_ge2  = pkt_n_i >= 4'd2;
+    wire n_ge3  = pkt_n_i >= 4'd3;
+    wire pin_ok = pkt_d1_i < NUM_PINS_W;
+    wire dev_ok = {2'b00, pin_in} < NUM_PINS_W;
+    wire c_cfg  = is_cmd && pkt_d0_i == CMD_DIG_CFG && n_ge3;   // a DIG_CFG write
+    wire c_out  = is_cmd && pkt_d0_i == CMD_DIG_IO && n_ge3;    // a DIG_IO write
+    wire c_rst  = is_cmd && pkt_d0_i == CMD_DIG_RST && n_ge2;
+    wire c_time = is_cmd && pkt_d0_i == CMD_PTIME_RD && n_ge2;
 
-    always @(posedge clk) begin
-        s_valid_q        <= pkt_valid_i;
-        s_kind_q         <= pkt_kind_i;
-        s_n_q            <= pkt_n_i;
-        s_d0_q           <= pkt_d0_i;
-        s_d1_q           <= pkt_d1_i;
-        s_d2_q           <= pkt_d2_i;
-        pin_ok_q         <= pkt_d1_i < NUM_PINS_W;
-        dev_ok_q         <= {2'b00, pin_in} < NUM_PINS_W;
-        pin_cfg_q        <= look_cfg;
-        pin_level_q      <= look_level;
-        pin_fixed_q      <= look_fixed;
-        pin_has_timer_q  <= look_has_timer;
-        pin_timer_busy_q <= look_timer_busy;
-        pin_onehot_q     <= look_onehot;
-        if (rst) s_valid_q <= 1'b0;
+    reg [NUM_PINS-1:0] do_cfg, do_out, do_rst, do_start;
+    integer q;
+    always @* begin
+        for (q = 0; q < NUM_PINS; q = q + 1) begin
+            // A `pin` byte must match whole; a DEVCODE's pin is its bits 5:0.
+            do_cfg[q]   = c_cfg && pkt_d1_i == q[7:0] && !FIXED_MASK[q];
+            do_out[q]   = c_out && pkt_d1_i == q[7:0] && !cfg_i[5*q + IODIR];
+            do_rst[q]   = c_rst && pkt_d1_i == q[7:0];
+            do_start[q] = c_time && pin_in == q[5:0] && TIMER_MASK[q] && cfg_i[5*q + IODIR] &&
+                          !timer_busy_i[q];
+        end
     end
 
-    assign busy_o = pkt_valid_i || s_valid_q;
+    reg                s_valid_q;
+    reg                probe_q, serial_q, cmd_q;
+    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_invalid_q;
+    reg                n1_q, n2_q, n_gt2_q, n_gt3_q;
+    reg [7:0]          s_d1_q, s_d2_q;
+    reg                pin_ok_q, dev_ok_q;
+    reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
+    reg [4:0]          pin_cfg_q;
+    reg                pin_level_q, pin_fixed_q, pin_has_timer_q;
+    reg                rst_ok_q;      // a DIG_RST re-arms
+    reg                cfg_we_q, out_we_q, hb_answer_q;
+    reg [NUM_PINS-1:0] rearm_q, start_q;
+    reg                reply_q;       // stage 2 chose a reply: request it (below)
+
+    always @(posedge clk) begin
+        s_valid_q       <= pkt_valid_i;
+        probe_q         <= pkt_valid_i && pkt_kind_i == KIND_PROBE;
+        serial_q        <= pkt_valid_i && pkt_kind_i == KIND_SERIAL;
+        cmd_q           <= is_cmd;
+        is_hb_q         <= pkt_d0_i == CMD_HB;
+        is_cfg_q        <= pkt_d0_i == CMD_DIG_CFG;
+        is_io_q         <= pkt_d0_i == CMD_DIG_IO;
+        is_rst_q        <= pkt_d0_i == CMD_DIG_RST;
+        is_invalid_q    <= !(pkt_d0_i == CMD_HB || pkt_d0_i == CMD_DIG_CFG || pkt_d0_i == CMD_DIG_IO ||
+                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD);
+        n1_q            <= pkt_n_i == 4'd1;
+        n2_q            <= pkt_n_i == 4'd2;
+        n_gt2_q         <= pkt_n_i > 4'd2;
+        n_gt3_q         <= pkt_n_i > 4'd3;
+        s_d1_q          <= pkt_d1_i;
+        s_d2_q          <= pkt_d2_i;
+        pin_ok_q        <= pin_ok;
+        dev_ok_q        <= dev_ok;
+        dev_id_q        <= PIN_ID_W + pin_in;
+        pin_cfg_q       <= look_cfg;
+        pin_level_q     <= look_level;
+        pin_fixed_q     <= look_fixed;
+        pin_has_timer_q <= look_has_timer;
+        rst_ok_q        <= c_rst && pin_ok;
+        cfg_we_q        <= |do_cfg;
+        out_we_q        <= |do_out;
+        hb_answer_q     <= is_cmd && pkt_d0_i == CMD_HB && n_ge2;
+        rearm_q         <= do_cfg | do_rst;
+        start_q         <= do_start;
+        if (rst) begin
+            s_valid_q   <= 1'b0;
+            probe_q     <= 1'b0;
+            serial_q    <= 1'b0;
+            cmd_q       <= 1'b0;
+            rst_ok_q    <= 1'b0;
+            cfg_we_q    <= 1'b0;
+            out_we_q    <= 1'b0;
+            hb_answer_q <= 1'b0;
+            rearm_q     <= {NUM_PINS{1'b0}};
+            start_q     <= {NUM_PINS{1'b0}};
+        end
+    end
 
     // ---------------------------------------------------- stage 2: execute
-    wire       is_cmd       = s_kind_q == KIND_CMD;
-    wire [7:0] cmd          = s_d0_q;
     wire       dev_host     = s_d1_q[7];
     wire       dev_rflx     = s_d1_q[6];
-    wire [5:0] pin          = s_d1_q[5:0];
     wire       pin_is_input = pin_cfg_q[IODIR];
 
-    assign pin_o        = pin;
-    assign cfg_o        = s_d2_q[4:0];
-    assign out_o        = s_d2_q != 8'd0;
-    assign timer_host_o = dev_host;
-    assign timer_rflx_o = dev_rflx;
-    assign hb_type_o    = s_d1_q;
+    assign cfg_we_o      = cfg_we_q;
+    assign out_we_o      = out_we_q;
+    assign rearm_o       = rearm_q;
+    assign timer_start_o = start_q;
+    assign hb_answer_o   = hb_answer_q;
+    assign pin_o         = s_d1_q[5:0];
+    assign cfg_o         = s_d2_q[4:0];
+    assign out_o         = s_d2_q != 8'd0;
+    assign timer_host_o  = dev_host;
+    assign timer_rflx_o  = dev_rflx;
+    assign hb_type_o     = s_d1_q;
 
-    // Outcome of the packet in stage 2.
-    reg        reply;       // a reply or message goes to the slot
+    // A DIG_IO read of an input pin with the RFLX bit: the same conditions as
+    // its reply below, written flat since they enable the RFLX slot.
+    wire dio_rflx = cmd_q && is_io_q && n2_q && dev_ok_q && pin_is_input && dev_rflx;
+
+    // The command changed state (each flag belongs to one command): check its length.
+    wire acted = cfg_we_q || out_we_q || rst_ok_q || |start_q;
+
+    // The reply or message of the packet in stage 2.
+    reg        reply;
     reg [2:0]  reply_n;
     reg [31:0] reply_data;
-    reg        dio_rflx;
-    reg        ok;          // the command succeeded: check its length
 
     task message(input [7:0] code);
         begin
@@ -149,107 +211,107 @@ module bsd_exec #(
     endtask
 
     always @* begin
-        cfg_we_o      = 1'b0;
-        out_we_o      = 1'b0;
-        rearm_o       = {NUM_PINS{1'b0}};
-        timer_start_o = {NUM_PINS{1'b0}};
-        hb_answer_o   = 1'b0;
-        reply         = 1'b0;
-        reply_n       = 3'd0;
-        reply_data    = 32'd0;
-        dio_rflx      = 1'b0;
-        ok            = 1'b0;
+        reply      = 1'b0;
+        reply_n    = 3'd0;
+        reply_data = 32'd0;
 
-        if (s_valid_q && s_kind_q == KIND_PROBE) begin
+        if (probe_q) begin
             reply = 1'b1;  // A, 0
-        end else if (s_valid_q && s_kind_q == KIND_SERIAL) begin
+        end else if (serial_q) begin
             message(MSG_SERIAL_ERROR);
-        end else if (s_valid_q && is_cmd) begin
-            case (cmd)
-                CMD_HB: begin
-                    // Always silent; a 2-byte or longer packet may answer.
-                    hb_answer_o = s_n_q >= 4'd2;
-                end
-                CMD_DIG_CFG: begin
-                    if (s_n_q == 4'd1) message(MSG_CMD_TOO_SHORT);
-                    else if (!pin_ok_q) message(MSG_CMD_INDEX_ERR);
-                    else if (s_n_q == 4'd2) begin
+        end else if (cmd_q) begin
+            if (is_hb_q) begin
+                // Silent; stage 1 decided whether it answers.
+            end else if (is_invalid_q) begin
+                message(MSG_CMD_INVALID);
+            end else if (n1_q) begin
+                message(MSG_CMD_TOO_SHORT);
+            end else if (acted) begin
+                // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
+                if ((is_cfg_q || is_io_q) ? n_gt3_q : n_gt2_q) message(MSG_CMD_TOO_LONG);
+            end else if (is_cfg_q) begin
+                // No write: a bad pin, a read, or a fixed pin.
+                if (!pin_ok_q) message(MSG_CMD_INDEX_ERR);
+                else if (n2_q) begin
+                    reply      = 1'b1;
+                    reply_n    = 3'd3;
+                    reply_data = {CMD_DIG_CFG, s_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
+                end else message(MSG_CONFIG_ERR);
+            end else if (is_io_q) begin
+                // No write: a read, or a bad pin or an input pin for a write.
+                if (!n2_q || !dev_ok_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
+                else begin
+                    if (dev_host) begin
                         reply      = 1'b1;
                         reply_n    = 3'd3;
-                        reply_data = {CMD_DIG_CFG, s_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
-                    end else if (pin_fixed_q) message(MSG_CONFIG_ERR);
-                    else begin
-                        cfg_we_o      = 1'b1;
-                        rearm_o       = pin_onehot_q;
-                        ok            = 1'b1;
+                        reply_data = {CMD_DEV_VAL, 2'b00, dev_id_q, 7'd0, pin_level_q, 8'd0};
                     end
                 end
-                CMD_DIG_IO: begin
-                    if (s_n_q == 4'd1) message(MSG_CMD_TOO_SHORT);
-                    else if (s_n_q == 4'd2) begin
-                        if (!dev_ok_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
-                        else begin
-                            if (dev_host) begin
-                                reply      = 1'b1;
-                                reply_n    = 3'd3;
-                                reply_data = {CMD_DEV_VAL, 2'b00, PIN_ID_W + pin, 7'd0, pin_level_q, 8'd0};
-                            end
-                            dio_rflx = dev_rflx;
-                        end
-                    end else if (!pin_ok_q || pin_is_input) message(MSG_CMD_INDEX_ERR);
-                    else begin
-                        out_we_o = 1'b1;
-                        ok       = 1'b1;
-                    end
-                end
-                CMD_DIG_RST: begin
-                    if (s_n_q == 4'd1) message(MSG_CMD_TOO_SHORT);
-                    else if (!pin_ok_q) message(MSG_CMD_INDEX_ERR);
-                    else begin
-                        rearm_o      = pin_onehot_q;
-                        ok           = 1'b1;
-                    end
-                end
-                CMD_PTIME_RD: begin
-                    if (s_n_q == 4'd1) message(MSG_CMD_TOO_SHORT);
-                    else if (!dev_ok_q || !pin_has_timer_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
-                    else if (pin_timer_busy_q) message(MSG_TMR_CONFLICT);
-                    else begin
-                        timer_start_o      = pin_onehot_q;
-                        ok                 = 1'b1;
-                    end
-                end
-                default: message(MSG_CMD_INVALID);
-            endcase
-            // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
-            if (ok && s_n_q > ((cmd == CMD_DIG_CFG || cmd == CMD_DIG_IO) ? 4'd3 : 4'd2))
-                message(MSG_CMD_TOO_LONG);
+            end else if (is_rst_q) begin
+                message(MSG_CMD_INDEX_ERR);  // no re-arm: a bad pin
+            end else begin
+                // PTIME_RD without a start: a bad pin, or its timer is busy.
+                if (!dev_ok_q || !pin_has_timer_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
+                else message(MSG_TMR_CONFLICT);
+            end
         end
     end
 
     // Registers: the waiting reply and the waiting DIG_IO RFLX value. The
-    // parser never completes a packet that could need a slot while it is full.
+    // parser never completes a packet that could need a slot while it is full
+    // (hold_o covers the clocks from the packet to its request).
+    //
+    // The reply is requested one clock after stage 2 (reply_q), so that the
+    // request and the slot's enables never wait for the whole decision: the
+    // slot takes stage 2's packet whenever it is free, and holds it once
+    // requested.
+
+    // hold_o: a slot is full, or a packet is on its way through the stages
+    // and may fill one. pending_q is that condition for every stage after
+    // the first, worked out a clock ahead so that hold_o (which gates the
+    // parser's s_axis_tready) is one gate. For the RFLX slot it ignores the
+    // clearing strobe (whose arbiter is deep) and so holds one clock longer.
+    reg  pending_q;
+    wire rep_req_d = reply_q || (rep_req_o && !rep_done_i);
+
+    // The RFLX arbiter ranks the waiting DIG_IO value against the timers by
+    // device ID; comparing here, as the value is stored, keeps the
+    // comparators out of the arbiter's clock.
+    reg [NUM_PINS-1:0] below;
+    integer b;
+    always @* begin
+        for (b = 0; b < NUM_PINS; b = b + 1)
+            below[b] = dev_id_q < TIMER_ID_BASE[5:0] + b[5:0];
+    end
+    assign hold_o = pkt_valid_i || pending_q;
+
     always @(posedge clk) begin
-        if (rep_done_i) rep_req_o <= 1'b0;
-        if (reply) begin
-            rep_req_o  <= 1'b1;
+        reply_q   <= reply;
+        pending_q <= pkt_valid_i || reply || rep_req_d || dio_rflx || dio_rflx_req_o;
+        if (s_valid_q && !rep_req_o) begin
             rep_n_o    <= reply_n;
             rep_data_o <= reply_data;
         end
+        if (rep_done_i) rep_req_o <= 1'b0;
+        if (reply_q) rep_req_o <= 1'b1;
         if (dio_rflx_done_i) dio_rflx_req_o <= 1'b0;
         if (dio_rflx) begin
             dio_rflx_req_o <= 1'b1;
-            dio_rflx_id_o  <= PIN_ID_W + pin;
-            dio_rflx_val_o <= pin_level_q;
+            dio_rflx_id_o  <= dev_id_q;
+            dio_rflx_val_o   <= pin_level_q;
+            dio_rflx_below_o <= below;
         end
         if (rst) begin
             // The power-up message is the first packet out.
+            reply_q        <= 1'b0;
+            pending_q      <= 1'b1;  // the power-up message waits
             rep_req_o      <= 1'b1;
             rep_n_o        <= 3'd2;
             rep_data_o     <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
             dio_rflx_req_o <= 1'b0;
             dio_rflx_id_o  <= 6'd0;
-            dio_rflx_val_o <= 1'b0;
+            dio_rflx_val_o   <= 1'b0;
+            dio_rflx_below_o <= {NUM_PINS{1'b0}};
         end
     end
 endmodule

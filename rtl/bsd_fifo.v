@@ -38,13 +38,21 @@ module bsd_fifo #(
     reg [AW:0]      wr_q;  // one wrap bit above the address
     reg [AW:0]      rd_q;
 
-    wire ram_empty = (wr_q == rd_q);
-    wire ram_full  = (wr_q == {~rd_q[AW], rd_q[AW-1:0]});
-    wire push      = s_axis_tvalid && !ram_full;
-    wire pop       = !ram_empty && (!m_axis_tvalid || m_axis_tready);
+    // Full and empty as flops, so that push and pop (the RAM's enables) do
+    // not wait for pointer comparators; the comparators work out the next
+    // clock's flags from the current pointers instead.
+    reg  ram_empty_q;
+    reg  ram_full_q;
+    wire push      = s_axis_tvalid && !ram_full_q;
+    wire pop       = !ram_empty_q && (!m_axis_tvalid || m_axis_tready);
+    // One word from empty / full: a lone pop empties, a lone push fills.
+    wire [AW:0] wr_inc    = wr_q + 1'b1;
+    wire [AW:0] rd_inc    = rd_q + 1'b1;
+    wire        one_left  = (rd_inc == wr_q);
+    wire        one_free  = (wr_inc == {~rd_q[AW], rd_q[AW-1:0]});
 
-    assign s_axis_tready = !ram_full;
-    assign empty_o       = ram_empty && !m_axis_tvalid;
+    assign s_axis_tready = !ram_full_q;
+    assign empty_o       = ram_empty_q && !m_axis_tvalid;
 
     // RAM ports: no reset, so they map onto block RAM.
     always @(posedge clk) begin
@@ -56,13 +64,23 @@ module bsd_fifo #(
     end
 
     always @(posedge clk) begin
-        if (push) wr_q <= wr_q + 1'b1;
-        if (pop) rd_q <= rd_q + 1'b1;
+        if (push) wr_q <= wr_inc;
+        if (pop) rd_q <= rd_inc;
+        if (push && !pop) begin
+            ram_empty_q <= 1'b0;
+            ram_full_q  <= one_free;
+        end
+        if (pop && !push) begin
+            ram_full_q  <= 1'b0;
+            ram_empty_q <= one_left;
+        end
         if (pop) m_axis_tvalid <= 1'b1;
         else if (m_axis_tready) m_axis_tvalid <= 1'b0;
         if (rst) begin
             wr_q          <= {(AW + 1){1'b0}};
             rd_q          <= {(AW + 1){1'b0}};
+            ram_empty_q   <= 1'b1;
+            ram_full_q    <= 1'b0;
             m_axis_tvalid <= 1'b0;
         end
     end

@@ -21,13 +21,15 @@ module bsd_heartbeat #(
     // HB_RATE = 0: no heartbeat ever falls due, so link_up stays 0.
     localparam integer PERIOD = (HB_RATE == 0 ? 1 : HB_RATE) * HB_UNIT_TICKS;
     localparam integer W      = $clog2(PERIOD);
+    localparam integer LAST_BEFORE = PERIOD - 2;  // PERIOD >= 16 000
 
     reg [W-1:0] ticks_q;
+    reg         at_end_q;    // ticks_q == PERIOD - 1: the next tick makes a heartbeat due
     reg         down_q;      // type of the latest heartbeat: 0 UP, 1 DOWN
     reg         queued_q;    // a heartbeat has been queued since reset
     reg         answered_q;  // the latest one is answered
 
-    wire due      = (HB_RATE != 0) && tick_i && ticks_q == PERIOD[W-1:0] - 1'b1;
+    wire due      = (HB_RATE != 0) && tick_i && at_end_q;
     wire answer   = answer_i && queued_q &&
                     answer_type_i == {7'd0, down_q} + HB_ANSWER_OFFSET;
     wire answered = answered_q || answer;
@@ -35,7 +37,11 @@ module bsd_heartbeat #(
     assign type_o = {7'd0, down_q};
 
     always @(posedge clk) begin
-        if (tick_i) ticks_q <= due ? {W{1'b0}} : ticks_q + 1'b1;
+        if (tick_i) begin
+            ticks_q  <= due ? {W{1'b0}} : ticks_q + 1'b1;
+            // From the register, not the sum: the comparator stays off `due`.
+            at_end_q <= !due && ticks_q == LAST_BEFORE[W-1:0];
+        end
         if (done_i) req_o <= 1'b0;
         if (answer) begin
             answered_q <= 1'b1;
@@ -52,6 +58,7 @@ module bsd_heartbeat #(
         end
         if (rst) begin
             ticks_q    <= {W{1'b0}};
+            at_end_q   <= 1'b0;
             req_o      <= 1'b0;
             down_q     <= 1'b0;
             queued_q   <= 1'b0;

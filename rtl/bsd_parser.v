@@ -34,83 +34,116 @@ module bsd_parser #(
     localparam [1:0] ST_ADDR = 2'd0;
     localparam [1:0] ST_LEN  = 2'd1;
     localparam [1:0] ST_DATA = 2'd2;
+    localparam [1:0] ST_PEND = 2'd3;  // a packet ended by its length byte waits to be handed over
 
+    // ------------------------------------------------------------ registers
     reg  [1:0]    state_q;
     reg           own_q;
     reg           probe_q;
     reg  [3:0]    cnt_q;
     reg           last_q;   // the next data byte is the packet's last
+    reg           stop_q;   // the next byte waits while hold_i (below)
     reg  [TW-1:0] idle_q;
 
-    // Decoded from registers and plain gates, not adders or magnitude
-    // comparators: these feed s_axis_tready and the accept strobe.
-    wire last_data = last_q;
-    wire len_zero  = ~|s_axis_tdata;
-    wire len_over  = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));  // > 8
-
-    // The last byte of a packet that can need the reply slot waits while the
-    // slot is (or is about to be) full, so execution itself never waits. That
-    // is the last data byte of a packet for this module, or a length byte that
-    // ends a packet with a reply: 0xAD with N = 0, this module with N > 8.
-    // The latter makes s_axis_tready depend on the offered byte, which
-    // AXI-Stream allows (with tvalid 0 it is 1 there, so an idle input counts
-    // towards the timeout). Every other byte streams at one per clock.
-    wire may_reply = (state_q == ST_LEN && s_axis_tvalid &&
-                      ((probe_q && len_zero) || (own_q && len_over))) ||
-                     (state_q == ST_DATA && own_q && last_data);
-
-    assign s_axis_tready = !rst && !(hold_i && may_reply);
+    // Flow control. A packet that can need the reply slot is handed over only
+    // while the slot is free and no packet is being executed (hold_i 0), so
+    // execution itself never waits:
+    // - a packet for this module: its last data byte waits, so a command
+    //   always executes a fixed 2 clocks after its last byte;
+    // - a packet that ends with its length byte and has a reply (0xAD with
+    //   N = 0, this module with N > 8): the length byte is taken and the
+    //   packet waits in ST_PEND, where the next byte waits with it.
+    // s_axis_tready thus comes from flops and hold_i only, never from the
+    // offered byte. Every other byte streams at one per clock.
+    assign s_axis_tready = !rst && !(hold_i && stop_q);
 
     wire accept  = s_axis_tvalid && s_axis_tready;
-    wire waiting = s_axis_tready && !s_axis_tvalid && state_q != ST_ADDR;
+    wire hand_over = state_q == ST_PEND && !hold_i;
+    wire waiting = s_axis_tready && !s_axis_tvalid && (state_q == ST_LEN || state_q == ST_DATA);
     wire expired = (RX_TIMEOUT_US != 0) && waiting && tick_i &&
                    (idle_q == TIMEOUT_TICKS[TW-1:0] - 1'b1);
 
-    always @(posedge clk) begin
-        pkt_valid_o <= 1'b0;
-        if (accept) idle_q <= {TW{1'b0}};
-        else if (waiting && tick_i) idle_q <= idle_q + 1'b1;
+    // Byte decode from plain gates, not adders or magnitude comparators.
+    wire len_zero = ~|s_axis_tdata;
+    wire len_over = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));  // > 8
 
+    // ---------------------------------------------------- next-state logic
+    reg  [1:0] state_d;
+    reg        own_d, probe_d, last_d;
+    reg  [3:0] cnt_d;
+    reg        valid_d;
+    reg  [1:0] kind_d;
+
+    always @* begin
+        state_d = state_q;
+        own_d   = own_q;
+        probe_d = probe_q;
+        cnt_d   = cnt_q;
+        last_d  = last_q;
+        valid_d = hand_over;
+        kind_d  = pkt_kind_o;
+        if (hand_over) state_d = ST_ADDR;
         if (expired) begin
-            state_q <= ST_ADDR;
+            state_d = ST_ADDR;
         end else if (accept) begin
             case (state_q)
-                ST_ADDR: begin
-                    own_q   <= (s_axis_tdata == ADDR_OWN);
-                    probe_q <= (s_axis_tdata == ADDR_RESYNC);
-                    state_q <= ST_LEN;
+                ST_ADDR, ST_PEND: begin
+                    own_d   = s_axis_tdata == ADDR_OWN;
+                    probe_d = s_axis_tdata == ADDR_RESYNC;
+                    state_d = ST_LEN;
                 end
                 ST_LEN: begin
-                    pkt_n_o <= s_axis_tdata[3:0];
-                    cnt_q   <= 4'd0;
-                    last_q  <= s_axis_tdata == 8'd1;
-                    if (len_over) begin
-                        pkt_valid_o <= own_q;
-                        pkt_kind_o  <= KIND_SERIAL;
-                        state_q     <= ST_ADDR;
-                    end else if (len_zero) begin
-                        pkt_valid_o <= probe_q;
-                        pkt_kind_o  <= KIND_PROBE;
-                        state_q     <= ST_ADDR;
+                    cnt_d  = 4'd0;
+                    last_d = s_axis_tdata == 8'd1;
+                    if (own_q && len_over) begin
+                        kind_d  = KIND_SERIAL;
+                        state_d = ST_PEND;
+                    end else if (probe_q && len_zero) begin
+                        kind_d  = KIND_PROBE;
+                        state_d = ST_PEND;
+                    end else if (len_over || len_zero) begin
+                        state_d = ST_ADDR;
                     end else begin
-                        state_q <= ST_DATA;
+                        state_d = ST_DATA;
                     end
                 end
                 default: begin
-                    case (cnt_q)
-                        4'd0:    pkt_d0_o <= s_axis_tdata;
-                        4'd1:    pkt_d1_o <= s_axis_tdata;
-                        4'd2:    pkt_d2_o <= s_axis_tdata;
-                        default: ;
-                    endcase
-                    cnt_q  <= cnt_q + 4'd1;
-                    last_q <= cnt_q + 4'd2 == pkt_n_o;
-                    if (last_data) begin
-                        pkt_valid_o <= own_q;
-                        pkt_kind_o  <= KIND_CMD;
-                        state_q     <= ST_ADDR;
+                    cnt_d  = cnt_q + 4'd1;
+                    last_d = cnt_q + 4'd2 == pkt_n_o;
+                    if (last_q) begin
+                        valid_d = own_q;
+                        kind_d  = KIND_CMD;
+                        state_d = ST_ADDR;
                     end
                 end
+            endcase
+        end
+    end
+
+    always @(posedge clk) begin
+        state_q     <= state_d;
+        own_q       <= own_d;
+        probe_q     <= probe_d;
+        cnt_q       <= cnt_d;
+        last_q      <= last_d;
+        stop_q      <= (state_d == ST_DATA && own_d && last_d) || state_d == ST_PEND;
+        pkt_valid_o <= valid_d;
+        pkt_kind_o  <= kind_d;
+        if (accept) idle_q <= {TW{1'b0}};
+        else if (waiting && tick_i) idle_q <= idle_q + 1'b1;
+
+        // The packet's N and first data bytes take the offered byte whether or
+        // not it is accepted, so s_axis_tready stays off these enables: a held
+        // byte stays offered unchanged (AXI-Stream), and the executor reads
+        // them only on pkt_valid_o's clock, when the parser waits for an
+        // address byte and so writes none of them.
+        if (s_axis_tvalid && state_q == ST_LEN) pkt_n_o <= s_axis_tdata[3:0];
+        if (s_axis_tvalid && state_q == ST_DATA) begin
+            case (cnt_q)
+                4'd0:    pkt_d0_o <= s_axis_tdata;
+                4'd1:    pkt_d1_o <= s_axis_tdata;
+                4'd2:    pkt_d2_o <= s_axis_tdata;
+                default: ;
             endcase
         end
 
@@ -120,6 +153,7 @@ module bsd_parser #(
             probe_q     <= 1'b0;
             cnt_q       <= 4'd0;
             last_q      <= 1'b0;
+            stop_q      <= 1'b0;
             idle_q      <= {TW{1'b0}};
             pkt_valid_o <= 1'b0;
             pkt_kind_o  <= KIND_CMD;

@@ -11,6 +11,7 @@ module bsd_rflx_arb #(
     input  wire                   dio_req_i,
     input  wire [5:0]             dio_id_i,
     input  wire                   dio_val_i,
+    input  wire [NUM_PINS-1:0]    dio_below_i,   // dio_id_i < the timer ID of pin p
     output wire                   dio_done_o,
     input  wire [NUM_PINS-1:0]    timer_req_i,
     input  wire [16*NUM_PINS-1:0] timer_result_i,
@@ -19,9 +20,10 @@ module bsd_rflx_arb #(
     output reg  [5:0]             rflx_id,
     output reg  [15:0]            rflx_data
 );
-    reg        t_any;
-    reg [5:0]  t_id;
-    reg [15:0] t_result;
+    // The lowest waiting timer (lowest pin).
+    reg                t_any;
+    reg [5:0]          t_id;
+    reg [15:0]         t_result;
     reg [NUM_PINS-1:0] t_onehot;
     integer p;
     always @* begin
@@ -40,9 +42,10 @@ module bsd_rflx_arb #(
         end
     end
 
-    wire pick_dio = dio_req_i && (!t_any || dio_id_i < t_id);
+    // The DIG_IO value goes first when it ranks below the lowest waiting timer.
+    wire pick_dio = dio_req_i && !(|(t_onehot & ~dio_below_i));
     assign dio_done_o = pick_dio;
-    always @* timer_done_o = pick_dio ? {NUM_PINS{1'b0}} : t_onehot;
+    always @* timer_done_o = t_onehot & ~({NUM_PINS{dio_req_i}} & dio_below_i);
 
     always @(posedge clk) begin
         rflx_valid <= pick_dio || t_any;

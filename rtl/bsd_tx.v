@@ -1,15 +1,17 @@
 `default_nettype none
 // Sends whole packets `A, N, d0..` onto m_axis, the oldest waiting source
 // first. Source s offers N (0..4) and up to four data bytes; it keeps its
-// request up until done_o[s] pulses with the handshake of its last byte,
-// so a source is "delivered" only when its packet has left the core.
+// request up, and its packet unchanged, until done_o[s] pulses with the
+// handshake of its last byte, so a source is "delivered" only when its
+// packet has left the core.
 //
-// Two registers: the packet going out (a shift register) and the next one,
-// staged from the arbiter while the current one is sent. The output takes
-// the staged packet on the clock of its own last handshake, so packets leave
-// back to back, and m_axis_tready only gates register enables (the arbiter
-// and the source mux never wait for it). Later events are always younger, so
-// staging early never reorders packets.
+// Two registers: the packet going out (a shift register) and the source of
+// the next one, staged from the arbiter while the current one is sent. The
+// output loads the staged source's packet on the clock of its own last
+// handshake, so packets leave back to back, and m_axis_tready only gates
+// register enables (the arbiter and the source mux never wait for it; the
+// mux is driven by the staged source, a register, not by the grant). Later
+// events are always younger, so staging early never reorders packets.
 module bsd_tx #(
     parameter integer MODULE_ADDR = 2,
     parameter integer K           = 2
@@ -31,10 +33,9 @@ module bsd_tx #(
     reg  [47:0]  buf_q;    // bytes still to send, first in the top byte
     reg  [2:0]   left_q;   // bytes still to send
     reg          valid_q;
-    reg  [K-1:0] cur_q;    // its source
-    // The next packet.
-    reg  [2:0]   next_n_q;
-    reg  [31:0]  next_data_q;
+    reg  [K-1:0] cur_q;    // its source (0 when none: cur_q, next_src_q and
+                           // done_q are the sources the arbiter must skip)
+    // The next packet's source.
     reg          next_valid_q;
     reg  [K-1:0] next_src_q;
 
@@ -52,11 +53,11 @@ module bsd_tx #(
         .clk       (clk),
         .rst       (rst),
         .req_i     (req_i),
-        .exclude_i ((valid_q ? cur_q : {K{1'b0}}) |
-                    (next_valid_q ? next_src_q : {K{1'b0}}) | done_q),
+        .exclude_i (cur_q | next_src_q | done_q),
         .gnt_o     (gnt)
     );
 
+    // The staged source's packet (it stays unchanged until it has left).
     reg [2:0]  sel_n;
     reg [31:0] sel_data;
     integer s;
@@ -64,7 +65,7 @@ module bsd_tx #(
         sel_n    = 3'd0;
         sel_data = 32'd0;
         for (s = 0; s < K; s = s + 1) begin
-            if (gnt[s]) begin
+            if (next_src_q[s]) begin
                 sel_n    = sel_n | n_i[3*s +: 3];
                 sel_data = sel_data | data_i[32*s +: 32];
             end
@@ -74,18 +75,19 @@ module bsd_tx #(
 
     always @(posedge clk) begin
         if (load) begin
-            buf_q   <= {ADDR_OWN, 5'd0, next_n_q, next_data_q};
-            left_q  <= next_n_q + 3'd2;
+            buf_q   <= {ADDR_OWN, 5'd0, sel_n, sel_data};
+            left_q  <= sel_n + 3'd2;
             valid_q <= 1'b1;
             cur_q   <= next_src_q;
         end else if (hs) begin
             buf_q   <= {buf_q[39:0], 8'd0};
             left_q  <= left_q - 3'd1;
-            if (last) valid_q <= 1'b0;
+            if (last) begin
+                valid_q <= 1'b0;
+                cur_q   <= {K{1'b0}};
+            end
         end
         if (stage) begin
-            next_n_q     <= sel_n;
-            next_data_q  <= sel_data;
             next_src_q   <= gnt;
             next_valid_q <= |gnt;
         end
@@ -95,8 +97,6 @@ module bsd_tx #(
             left_q       <= 3'd0;
             valid_q      <= 1'b0;
             cur_q        <= {K{1'b0}};
-            next_n_q     <= 3'd0;
-            next_data_q  <= 32'd0;
             next_valid_q <= 1'b0;
             next_src_q   <= {K{1'b0}};
             done_q       <= {K{1'b0}};

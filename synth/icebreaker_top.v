@@ -23,16 +23,20 @@ module icebreaker_top #(
     inout  wire [7:0] P1A
 );
     // -------------------------------------------------- power-up reset
-    // iCE40 flops are 0 after configuration: rst stays 1 for 15 clocks after
-    // power-up, and again after BTN_N (synchronized) is pressed.
+    // iCE40 flops are 0 after configuration: rst stays 1 for 16 clocks after
+    // power-up, and again after BTN_N (synchronized) is pressed. rst comes
+    // straight from a flop (run_q, 0 after configuration), since it reaches
+    // nearly every flop and the core's s_axis_tready.
     reg [1:0] btn_q = 2'b11;
     reg [3:0] por_q = 4'd0;
+    reg       run_q = 1'b0;
     always @(posedge CLK) begin
         btn_q <= {btn_q[0], BTN_N};
         if (por_q != 4'hF) por_q <= por_q + 1'b1;
         if (!btn_q[1]) por_q <= 4'd0;
+        run_q <= (por_q == 4'hF) && btn_q[1];
     end
-    wire rst = (por_q != 4'hF);
+    wire rst = !run_q;
 
     // -------------------------------------------------- the module
     wire [NUM_PINS-1:0] pin_i, pin_o, pin_oe, raw_trans;

@@ -70,6 +70,7 @@ class Design:
     top_stat: dict = field(default_factory=dict)
     lcs: int | None = None
     fmax: dict[int, float] = field(default_factory=dict)
+    paths: dict[int, "CritPath"] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
 
 
@@ -165,6 +166,38 @@ def summarize(c: dict[str, int]) -> dict[str, int]:
             "ram": c.get("SB_RAM40_4K", 0), "io": c.get("SB_IO", 0)}
 
 
+@dataclass
+class CritPath:
+    start: str   # the flop the path starts at
+    end: str     # the flop (or RAM) it ends at
+    luts: int    # LUT levels on the way
+    logic_ns: float
+    routing_ns: float
+
+
+def cell_name(net: str) -> str:
+    """A nextpnr cell name back to the RTL signal it was made from (drop the mapper's
+    `_SB_LUT4_..`/`_SB_DFF..` suffixes and the harness's `u_dio.` prefix)."""
+    net = re.sub(r"(_SB_|\$|_DFFLC|\.O$|\.CEN$|\.I\d$|\.D$).*", "", net)
+    return net.removeprefix("u_dio.")
+
+
+def critical_path(path: Path) -> CritPath | None:
+    """The clock-to-clock critical path of a nextpnr log."""
+    text = path.read_text(errors="replace") if path.exists() else ""
+    m = re.search(r"Critical path report for clock .*?\(posedge -> posedge\):\n(.*?)\n\n", text, re.S)
+    if not m:
+        return None
+    body = m.group(1)
+    sources = re.findall(r"(?:clk-to-q|logic|setup)\s+[\d.]+\s+[\d.]+ Source (\S+)", body)
+    tot = re.search(r"Info: ([\d.]+) ns logic, ([\d.]+) ns routing", text[m.start():])
+    luts = len(re.findall(r"^Info:\s+logic\s", body, re.M))
+    if not sources or not tot:
+        return None
+    return CritPath(cell_name(sources[0]), cell_name(sources[-1]), luts,
+                    float(tot.group(1)), float(tot.group(2)))
+
+
 def log_warnings(path: Path) -> list[str]:
     if not path.exists():
         return []
@@ -212,6 +245,9 @@ def build(d: Design, seeds: tuple[int, ...], asc: bool = False, jobs: int = 2) -
             results = list(pool.map(lambda s: nextpnr(work, d, s, asc=asc), seeds))
         for seed, (fmax, lcs, warns) in zip(seeds, results):
             d.fmax[seed] = fmax
+            cp = critical_path(work / f"pnr_s{seed}.log")
+            if cp:
+                d.paths[seed] = cp
             d.lcs = lcs
             d.warnings += warns
     print(f"  {d.name}: {d.core_stat}, LCs {d.lcs}, Fmax {fmt_fmax(d)} ({time.time() - t0:.0f} s)",
@@ -350,6 +386,16 @@ def write_doc(ds: list[Design], bd: list[tuple[str, dict[str, int]]]) -> None:
     w("")
     w(TIMING)
     w("")
+    w("The critical path of every placement (nextpnr's report in `synth/build/<design>/pnr_s<seed>.log`; "
+      "start and end are the RTL signals the flops were made from):")
+    w("")
+    w("| design | seed | Fmax (MHz) | from | to | LUT levels | logic / routing (ns) |")
+    w("|---|---:|---:|---|---|---:|---|")
+    for d in ds:
+        for seed, cp in d.paths.items():
+            w(f"| {d.name} | {seed} | {d.fmax[seed]:.1f} | `{cp.start}` | `{cp.end}` | {cp.luts} | "
+              f"{cp.logic_ns:.1f} / {cp.routing_ns:.1f} |")
+    w("")
     w("## Warnings")
     w("")
     seen = sorted(set(x for d in ds for x in d.warnings))
@@ -391,22 +437,27 @@ What costs most:
   only drives `raw_trans`; its own reset and LED counters cost a few dozen LUT4s."""
 
 TIMING = """\
-The core already splits the longest paths of an earlier version (31 MHz): the executor looks up
-the addressed pin's state one clock before it acts, the arbiter's grant comes from registers,
-`bsd_tx` stages the next packet so `m_axis_tready` only gates enables, the timer's controls and
-the parser's byte decode avoid adders (docs/DESIGN.md, "Latencies"). What nextpnr's critical-path
-reports (`synth/build/*/pnr_s*.log`) name now, depending on the seed:
-- in the bare core: a timer's `rflx_req` → `bsd_rflx_arb`'s lowest-waiting-timer encoder and its
-  device-ID comparison with the waiting DIG_IO value (a carry chain) → the RFLX strobe registers;
-- in the board top: `bsd_msg_merge`'s state → the core's `m_axis_tready` → `bsd_tx`'s enables;
-  and the parser's accept strobe → the packet registers' enables.
-Each is six to eight LUT levels, most of the delay routing; on the UP5K (the slowest iCE40) a
-level with its routing costs about 3 ns. Further steps towards 48 MHz: decide the RFLX winner a
-clock earlier (or compare device IDs as one-hot vectors), an output register after the merge,
-and registering the executor's state-change strobes (one more clock of command latency; then a
-timer's and a latch's pad path need one more flop too, so that an edge arriving with the
-command's last byte still counts after the start, as it does now). Until then the board closes
-timing at 12 MHz with the margin shown above."""
+How the core and the board top get there (each step is a register or a precomputed flag that
+keeps a comparator, a mux or an arbiter off a wide enable; docs/DESIGN.md, "Latencies"):
+- register slices (`bsd_axis_skid`, registered `tready` and `tvalid`) between the RX FIFO and the
+  core, between the core and the cmdQOverflow merge, and between the merge and the UART
+  transmitter; the FIFO's full and empty are flops; the board top's reset comes from a flop;
+- the parser's `s_axis_tready` is one gate of flops: the last data byte of a packet to this module
+  waits while a reply does, but a packet ended by its length byte (the 0xAD probe, N > 8) is
+  taken and waits inside the parser, so `tready` never looks at the offered byte;
+- the executor's first stage decides every state change pin by pin (each pin's own address
+  compare and bits, not the lookup mux) and its second stage drives the strobes from flops; the
+  reply is requested a clock after it is decided; the parser's hold is a flop ORed with one
+  input;
+- the timer prepares its completion test a clock ahead (which pad level completes, and whether
+  the next tick times out), and the heartbeat its due flag; no comparator or adder sits on an
+  enable;
+- `bsd_tx` stages only the chosen source and muxes its packet when it loads it; the RFLX
+  arbiter gets the DIG_IO value's rank against each timer with the value.
+What remains are paths of four to six LUT levels; about 70 % of their delay is routing (a LUT
+level with its routing costs about 3 ns on the UP5K, the slowest iCE40). The bare core's harness
+(`synth/core_wrap.v`) adds its own port registers and a high-fanout `m_axis_tready`, which is
+why its paths can be a little slower than the core inside the board top."""
 
 
 def explain_warning(x: str) -> str:
@@ -445,6 +496,8 @@ def main() -> None:
     ap.add_argument("-j", "--jobs", type=int, default=2, help="nextpnr runs side by side")
     ap.add_argument("--full", action="store_true", help="also place the 16-pin, 16-timer core")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/synthesis.md")
+    ap.add_argument("--only", metavar="NAME", help="build one design (core5, core16, core64, uart5, "
+                    "icebreaker, ...) and print its figures; implies --no-doc")
     args = ap.parse_args()
     BUILD.mkdir(parents=True, exist_ok=True)
     if args.bitstream:
@@ -452,6 +505,13 @@ def main() -> None:
         return
     t0 = time.time()
     ds = designs()
+    if args.only:
+        ds = [d for d in ds if d.name == args.only]
+        if not ds:
+            sys.exit(f"no design {args.only!r}: one of {', '.join(d.name for d in designs())}")
+        (d,) = ds
+        build(d, tuple(range(1, (args.board_seeds if d.board else args.core_seeds) + 1)), jobs=args.jobs)
+        return
     for d in ds:
         n = args.board_seeds if d.board else args.core_seeds
         build(d, tuple(range(1, n + 1)), jobs=args.jobs)

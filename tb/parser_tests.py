@@ -14,12 +14,14 @@ DESIGN.md decisions 2 and 10), written from the contract:
   length byte, and the next byte is an address.
 - 0xAD with N = 0: KIND_PROBE; 0xAD with N > 0 and any other address: the N data
   bytes are consumed silently (N > 8: the next byte is an address).
-- hold_i = 1 (a reply is waiting) holds (tready 0) the last byte of a packet that can
-  need a reply (DESIGN.md decision 2): the last data byte of a packet to A, or an offered
-  length byte that ends a packet with a reply (0xAD with N = 0, A with N > 8); every
-  other byte streams, and with tvalid 0 tready is 1 in the length state.
+- hold_i = 1 (a reply is waiting) holds a packet that can need a reply (DESIGN.md
+  decision 2): the last data byte of a packet to A waits (tready 0); a packet that ends
+  with its length byte and has a reply (0xAD with N = 0, A with N > 8) takes its length
+  byte and then waits (PEND, tready 0 for the next byte) until hold_i is 0, when it is
+  handed over and the next byte may be taken on the same clock. tready never depends on
+  the offered byte (or tvalid); every other byte streams.
 - inter-byte timeout: counted in tick_i strobes on clocks with tready 1, tvalid 0
-  and a packet partly received, since the last accepted byte; the partial packet is
+  and a packet partly received (length or data state), since the last accepted byte; the partial packet is
   dropped on the TIMEOUT_TICKS-th such strobe, TIMEOUT_TICKS = ceil(US / 1.6) + 1,
   the least count that never drops before RX_TIMEOUT_US of idle time whatever the
   tick phase: (TIMEOUT_TICKS - 1) * 1.6 us >= RX_TIMEOUT_US. RX_TIMEOUT_US = 0: never.
@@ -61,26 +63,28 @@ class FramingModel:
         self.state = "ADDR"
         self.idle = 0
 
-    def may_reply(self, tvalid: int, tdata: int) -> bool:
-        if self.state == "LEN":
-            return bool(tvalid) and ((self.pkt_addr == ADDR_RESYNC and tdata == 0)
-                                     or (self.pkt_addr == self.addr and tdata > 8))
-        if self.state == "DATA":
-            return self.pkt_addr == self.addr and len(self.data) + 1 == self.n
-        return False
+    def stop(self) -> bool:
+        """The next byte waits while hold_i is 1."""
+        if self.state == "PEND":
+            return True
+        return (self.state == "DATA" and self.pkt_addr == self.addr
+                and len(self.data) + 1 == self.n)
 
-    def tready(self, hold: int, tvalid: int, tdata: int) -> int:
-        return int(not (hold and self.may_reply(tvalid, tdata)))
+    def tready(self, hold: int, tvalid: int = 0, tdata: int = 0) -> int:
+        return int(not (hold and self.stop()))
 
     def step(self, tvalid: int, tdata: int, hold: int, tick: int):
         """One clock; returns the packet handed over at this edge or None."""
-        ready = self.tready(hold, tvalid, tdata)
+        ready = self.tready(hold)
+        out = None
+        if self.state == "PEND" and not hold:
+            out, self.state = self.pending, "ADDR"
         if not (tvalid and ready):
-            if ready and not tvalid and self.state != "ADDR" and self.t_ticks and tick:
+            if ready and not tvalid and self.state in ("LEN", "DATA") and self.t_ticks and tick:
                 self.idle += 1
                 if self.idle == self.t_ticks:
                     self.state, self.drops = "ADDR", self.drops + 1
-            return None
+            return out
         self.idle = 0
         own = self.state != "ADDR" and self.pkt_addr == self.addr
         if self.state == "ADDR":
@@ -89,17 +93,20 @@ class FramingModel:
             self.n, self.data = tdata, []
             if tdata > 8:
                 self.state = "ADDR"
-                return (KIND_SERIAL, None, []) if own else None
-            if tdata == 0:
+                if own:
+                    self.state, self.pending = "PEND", (KIND_SERIAL, None, [])
+            elif tdata == 0:
                 self.state = "ADDR"
-                return (KIND_PROBE, 0, []) if self.pkt_addr == ADDR_RESYNC else None
-            self.state = "DATA"
+                if self.pkt_addr == ADDR_RESYNC:
+                    self.state, self.pending = "PEND", (KIND_PROBE, 0, [])
+            else:
+                self.state = "DATA"
         else:
             self.data.append(tdata)
             if len(self.data) == self.n:
                 self.state = "ADDR"
                 return (KIND_CMD, self.n, self.data[:3]) if own else None
-        return None
+        return out
 
 
 class ParserTB:
@@ -300,11 +307,12 @@ async def test_back_to_back_full_rate(dut):
 
 
 @cocotb.test()
-async def test_hold_stalls_only_reply_capable_last_byte(dut):
-    """With hold_i = 1, tready is 0 exactly for the last byte of a packet that can need a
-    reply: the last data byte to A, the length byte of 0xAD with N = 0 and of A with
-    N > 8; everything else (addresses, other length and data bytes, other modules'
-    packets, 0xAD with N > 0) streams. When hold_i drops, the held byte is taken."""
+async def test_hold_stalls_only_reply_capable_packets(dut):
+    """With hold_i = 1, tready is 0 exactly for the last data byte of a packet to A and
+    for the byte after a length byte that ended a packet with a reply (0xAD with N = 0,
+    A with N > 8: that packet waits to be handed over); everything else (addresses,
+    length and data bytes, other modules' packets, 0xAD with N > 0) streams. When hold_i
+    drops, the waiting packet is handed over and the held byte is taken."""
     tb = ParserTB(dut)
     await tb.reset()
 
@@ -327,16 +335,23 @@ async def test_hold_stalls_only_reply_capable_last_byte(dut):
     # own address, N = 1
     for b, r in [(MODULE_ADDR, 1), (1, 1), (0x63, 0)]:
         await offer(b, r)
-    # probe: its length byte is its last, held; 0xAD with N > 0 never replies: streams
-    for b, r in [(ADDR_RESYNC, 1), (0, 0), (ADDR_RESYNC, 1), (2, 1), (MODULE_ADDR, 1), (7, 1)]:
+    # probe: its length byte is taken, then the packet waits and the next byte with it;
+    # 0xAD with N > 0 never replies: streams
+    for b, r in [(ADDR_RESYNC, 1), (0, 1), (ADDR_RESYNC, 0), (2, 1), (MODULE_ADDR, 1), (7, 1)]:
         await offer(b, r)
+    assert tb.pkts[-1][0] == KIND_PROBE, tb.pkts
     # other address: nothing held, not even its last byte
     for b, r in [(other, 1), (2, 1), (MODULE_ADDR, 1), (0, 1)]:
         await offer(b, r)
-    # own address with N = 0 (no reply): streams; N > 8 (serialError): held
-    for b, r in [(MODULE_ADDR, 1), (0, 1), (MODULE_ADDR, 1), (9, 0)]:
+    # own address with N = 0 (no reply): streams; N > 8 (serialError): waits, handed over
+    # on the first clock without hold_i
+    for b, r in [(MODULE_ADDR, 1), (0, 1), (MODULE_ADDR, 1), (9, 1)]:
         await offer(b, r)
-    await tb.step(tvalid=0, hold=0)
+    for _ in range(3):
+        _, pkt = await tb.step(tvalid=0, hold=1)
+        assert pkt is None and int(dut.s_axis_tready.value) == 0
+    _, pkt = await tb.step(tvalid=0, hold=0)
+    assert pkt is not None and pkt[0] == KIND_SERIAL
     kinds = [p[0] for p in tb.pkts]
     assert kinds == [KIND_CMD, KIND_CMD, KIND_PROBE, KIND_SERIAL], tb.pkts
 

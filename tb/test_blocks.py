@@ -102,3 +102,20 @@ def test_parser(sim, addr, timeout_us):
         {"MODULE_ADDR": addr, "RX_TIMEOUT_US": timeout_us},
         {"BSD_MODULE_ADDR": str(addr), "BSD_RX_TIMEOUT_US": str(timeout_us)},
     )
+
+
+# ---------------------------------------------------------------------- stream buffers
+# (block, WIDTH, FIFO DEPTH): the register slice as used around the core (8 and 9 bits),
+# the FIFO small (so full and empty come often) and at a power of two in between.
+STREAM_CASES = [("skid", 8, 0), ("skid", 9, 0), ("fifo", 8, 2), ("fifo", 8, 16)]
+
+
+@SIMS
+@pytest.mark.parametrize(
+    "block,width,depth", STREAM_CASES, ids=[f"{b}-w{w}" + (f"-d{d}" if d else "") for b, w, d in STREAM_CASES]
+)
+def test_stream(sim, block, width, depth):
+    top = {"skid": "bsd_axis_skid", "fifo": "bsd_fifo"}[block]
+    params = {"WIDTH": width, **({"DEPTH": depth} if depth else {})}
+    env = {"BSD_STREAM": block, "BSD_WIDTH": str(width), "BSD_DEPTH": str(depth)}
+    run(sim, top, "stream_tests", params, env)

@@ -847,10 +847,11 @@ async def test_long_stall(dut) -> None:
 
 @cocotb.test()
 async def test_reply_hold(dut) -> None:
-    """DESIGN.md 2: while a reply waits, the core holds back only the *last* byte of a packet
-    that could produce another reply (own address, or the 0xAD probe), and streams every
-    other byte: the address and length of an own packet with 1 <= N <= 8, whole packets to
-    other addresses and 0xAD packets with N > 0."""
+    """DESIGN.md 2: while a reply waits, the core holds back a packet that could produce
+    another reply: the *last* byte of an own packet with 1 <= N <= 8; a packet ended by its
+    length byte with a reply (the 0xAD probe, own N > 8) is taken whole and then waits, with
+    the byte after it. Every other byte streams: the address and length of an own packet,
+    whole packets to other addresses and 0xAD packets with N > 0."""
     tb, m = await setup(dut, pins=None)
     query = packet(A, CMD_DIG_CFG, 0)
     other = A ^ 0x40
@@ -859,8 +860,8 @@ async def test_reply_hold(dut) -> None:
         (packet(A, CMD_DIG_CFG, 0), 3, 3),
         (packet(A, CMD_DIG_CFG, 1, 0x01), 4, 4),  # a set: no reply of its own, but may error
         (packet(A, CMD_DIG_IO, 0x80, 1, 2, 3, 4, 5, 6), 9, 9),
-        (packet(RESYNC_ADDR), 1, 1),
-        (bytes([A, 9]), 1, 1),  # N > 8 to us: the length byte is the packet's last
+        (packet(RESYNC_ADDR) + query, 2, 2),  # the probe is taken, the next byte waits
+        (bytes([A, 9]) + query, 2, 2),  # N > 8 to us: likewise
         (packet(other, 1, 2, 3) + query, 5 + 3, 5 + 3),  # foreign packets stream whole
         (packet(RESYNC_ADDR, A, 2), 4, 4),  # 0xAD with N > 0 never replies: streams whole
     ]
