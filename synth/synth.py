@@ -254,18 +254,19 @@ def build(d: Design, seeds: tuple[int, ...], asc: bool = False, jobs: int = 2) -
           flush=True)
 
 
-def breakdown(pins: int, timer_bits: int) -> list[tuple[str, dict[str, int]]]:
-    """Per-submodule cells of the core (unflattened, so cross-module optimization is off)."""
-    d = Design(name=f"breakdown{pins}", title="", top="brainstem_dio",
-               params={"CLK_HZ": str(BOARD_HZ), "NUM_PINS": str(pins),
-                       "TIMER_MASK": mask(pins, timer_bits)}, pins=pins, timers=0)
+def breakdown(pins: int, timer_bits: int, top: str = "brainstem_dio") -> list[tuple[str, dict[str, int]]]:
+    """Per-submodule cells of `top` (unflattened, so cross-module optimization is off)."""
+    params = {"CLK_HZ": str(BOARD_HZ)}
+    if top == "brainstem_dio":
+        params.update({"NUM_PINS": str(pins), "TIMER_MASK": mask(pins, timer_bits)})
+    d = Design(name=f"breakdown_{top}{pins}", title="", top=top, params=params, pins=pins, timers=0)
     work, files = stage_sources(d)
-    stat = yosys(work, files, "brainstem_dio", d.params, "core", None, noflatten=True)
+    stat = yosys(work, files, top, d.params, "core", None, noflatten=True)
     mods = {m.lstrip("\\"): info["num_cells_by_type"] for m, info in stat["modules"].items()}
 
     def count(mod: str) -> int:
-        """Instances of `mod` in the whole hierarchy under brainstem_dio."""
-        if mod == "brainstem_dio":
+        """Instances of `mod` in the whole hierarchy under `top`."""
+        if mod == top:
             return 1
         total = 0
         for parent, types in mods.items():
@@ -298,7 +299,21 @@ def module_name(mod: str) -> str:
     return mod
 
 
-def write_doc(ds: list[Design], bd: list[tuple[str, dict[str, int]]]) -> None:
+def serial_link_costs(bd_uart: list[tuple[str, dict[str, int]]]) -> str:
+    """The serial link's modules, unflattened: `name` LUT4s / FFs (x instances)."""
+    parts = []
+    for mod in ("uart_rx", "uart_tx", "bsd_fifo", "bsd_axis_skid", "bsd_msg_merge", "bsd_heartbeat"):
+        for m, c in bd_uart:
+            if module_name(m) == mod and c["n"]:
+                width = re.search(r"WIDTH=s32'([01]+)", m)
+                label = f"`{mod}`" + (f" ({int(width.group(1), 2)} bits)" if width else "")
+                each = f"{c['lut']} / {c['ff']}" + (f" (each of {c['n']})" if c["n"] > 1 else "")
+                parts.append(f"{label} {each}")
+    return ", ".join(parts)
+
+
+def write_doc(ds: list[Design], bd: list[tuple[str, dict[str, int]]],
+              bd_uart: list[tuple[str, dict[str, int]]]) -> None:
     by = {d.name: d for d in ds}
     lines: list[str] = []
     w = lines.append
@@ -374,7 +389,9 @@ def write_doc(ds: list[Design], bd: list[tuple[str, dict[str, int]]]) -> None:
             w(f"| {name} | {s['n']} | {s['lut']} | {s['ff']} | {s['lut'] * s['n']} | "
               f"{100 * s['lut'] * s['n'] / total:.0f} % |")
     w("")
-    w(EXPLAIN)
+    w(EXPLAIN.format(lut64t=f"{by['core64t'].core_stat['lut']:,}".replace(",", " "),
+                     up5ks=by["core64t"].core_stat["lut"] / UP5K_LCS,
+                     link=serial_link_costs(bd_uart)))
     w("")
     w("## Timing")
     w("")
@@ -417,8 +434,7 @@ What costs most:
   K × K bits for K = NUM_PINS + 2 packet sources (one per pin, the reply slot, the heartbeat) and
   compares every pair, so it grows with the square of the pin count. Sources of pins without a
   timer never request and yosys removes most of their rows, which is why 64 pins with 4 timers
-  stay small while 64 pins with 64 timers (K = 66) need about 19 000 LUT4s, more than three
-  UP5Ks.
+  stay small while 64 pins with 64 timers (K = 66) need {lut64t} LUT4s, {up5ks:.1f} UP5Ks.
 - **`bsd_event_timer`**, one per timer pin: a 16-bit elapsed-ticks counter (the timeout), a
   16-bit interval counter, a 16-bit held result and their compare/saturate logic.
 - **`bsd_tx`**: the K-way mux of every source's packet (N and four data bytes) into the output
@@ -427,11 +443,9 @@ What costs most:
 - A pin without a timer costs little: its DIGCFG bits and output latch (`bsd_cfg_regs`), two
   synchronizer flops, its transition latch (`bsd_trans_latch`, 6 LUT4s) and its share of the
   executor's pin mux and of the arbiters.
-- The serial link: the `brainstem_dio_uart` row minus the 5-pin core row. Unflattened it is
-  `uart_rx` 48 LUT4s / 39 FFs, `uart_tx` 36 / 25, `bsd_fifo` 37 / 21 plus its block RAM (the 512
-  bytes are one `SB_RAM40_4K`), `bsd_msg_merge` 20 / 4; the rest of the difference is the
-  heartbeat, which the wrapper turns on (HB_RATE 10) and the bare-core rows leave off (HB_RATE 0):
-  `bsd_heartbeat` is about 39 LUT4s / 23 FFs.
+- The serial link: the `brainstem_dio_uart` row minus the 5-pin core row. Unflattened, in
+  LUT4s / FFs: {link}. The FIFO's 512 bytes are one `SB_RAM40_4K`; the heartbeat is on in the
+  wrapper (HB_RATE 10) and off in the bare-core rows (HB_RATE 0).
 - The board top is *smaller* than `brainstem_dio_uart`: it leaves `raw_trans` and `rflx_*`
   unconnected (nothing on the board listens to them), so yosys removes the RFLX arbiter and what
   only drives `raw_trans`; its own reset and LED counters cost a few dozen LUT4s."""
@@ -516,12 +530,13 @@ def main() -> None:
         n = args.board_seeds if d.board else args.core_seeds
         build(d, tuple(range(1, n + 1)), jobs=args.jobs)
     bd = breakdown(16, (1 << 16) - 1)
+    bd_uart = breakdown(5, 0, top="brainstem_dio_uart")
     summary = {d.name: {"title": d.title, "core": d.core_stat, "top": d.top_stat, "lcs": d.lcs,
                         "fmax": d.fmax} for d in ds}
     summary["breakdown_core16t"] = {module_name(m): c for m, c in bd}
     (BUILD / "summary.json").write_text(json.dumps(summary, indent=1))
     if not args.no_doc:
-        write_doc(ds, bd)
+        write_doc(ds, bd, bd_uart)
     board = [d for d in ds if d.board][0]
     worst = min(board.fmax.values())
     print(f"board top: worst Fmax {worst:.1f} MHz over seeds {tuple(board.fmax)} "
