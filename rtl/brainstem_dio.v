@@ -133,7 +133,7 @@ module brainstem_dio #(
     wire [NUM_PINS-1:0]   timer_start;
     wire                  timer_host, timer_rflx;
     wire                  hb_answer;
-    wire [7:0]            hb_answer_type;
+    wire                  hb_answer_down;
     wire                  rep_req, rep_done;
     wire [2:0]            rep_n;
     wire [31:0]           rep_data;
@@ -171,7 +171,7 @@ module brainstem_dio #(
         .timer_host_o    (timer_host),
         .timer_rflx_o    (timer_rflx),
         .hb_answer_o     (hb_answer),
-        .hb_type_o       (hb_answer_type),
+        .hb_answer_down_o(hb_answer_down),
         .rep_req_o       (rep_req),
         .rep_n_o         (rep_n),
         .rep_data_o      (rep_data),
@@ -268,7 +268,7 @@ module brainstem_dio #(
         .rst           (rst),
         .tick_i        (tick),
         .answer_i      (hb_answer),
-        .answer_type_i (hb_answer_type),
+        .answer_down_i (hb_answer_down),
         .req_o         (hb_req),
         .type_o        (hb_type),
         .done_i        (hb_done),

@@ -77,8 +77,8 @@ module brainstem_dio_uart #(
     );
 
     // A register slice between the FIFO and the core, so that the core's
-    // s_axis_tready (which depends on the parser's state and the offered
-    // byte) drives only the slice's enables, not the FIFO's block-RAM read.
+    // s_axis_tready (the parser's state and the executor's hold) drives only
+    // the slice's enables, not the FIFO's block-RAM read.
     // It holds one more byte, so the input keeps FIFO_DEPTH + 3 in all.
     wire [7:0] core_s_tdata;
     wire       core_s_tvalid, core_s_tready;

@@ -42,10 +42,10 @@ module bsd_exec #(
     output wire                  timer_host_o,
     output wire                  timer_rflx_o,
     // heartbeat answer from the host
-    output wire                  hb_answer_o,
-    output wire [7:0]            hb_type_o,
+    output wire                  hb_answer_o,       // the host answered a heartbeat: type 2 (UP) or 3 (DOWN)
+    output wire                  hb_answer_down_o,  // it answered a DOWN one
     // the waiting reply: A, rep_n, rep_data[31:24] ...
-    output reg                   rep_req_o,
+    output wire                  rep_req_o,
     output reg  [2:0]            rep_n_o,
     output reg  [31:0]           rep_data_o,
     input  wire                  rep_done_i,
@@ -127,7 +127,7 @@ module bsd_exec #(
     reg                rst_ok_q;      // a DIG_RST re-arms
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q, start_q;
-    reg                reply_q;       // stage 2 chose a reply: request it (below)
+    reg                reply_q;       // stage 2 chose a reply (below)
 
     always @(posedge clk) begin
         s_valid_q       <= pkt_valid_i;
@@ -156,7 +156,8 @@ module bsd_exec #(
         rst_ok_q        <= c_rst && pin_ok;
         cfg_we_q        <= |do_cfg;
         out_we_q        <= |do_out;
-        hb_answer_q     <= is_cmd && pkt_d0_i == CMD_HB && n_ge2;
+        hb_answer_q     <= is_cmd && pkt_d0_i == CMD_HB && n_ge2 &&
+                           (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
         rearm_q         <= do_cfg | do_rst;
         start_q         <= do_start;
         if (rst) begin
@@ -188,7 +189,7 @@ module bsd_exec #(
     assign out_o         = s_d2_q != 8'd0;
     assign timer_host_o  = dev_host;
     assign timer_rflx_o  = dev_rflx;
-    assign hb_type_o     = s_d1_q;
+    assign hb_answer_down_o = s_d1_q[0];  // type 3, as hb_answer_o comes only for 2 and 3
 
     // A DIG_IO read of an input pin with the RFLX bit: the same conditions as
     // its reply below, written flat since they enable the RFLX slot.
@@ -257,23 +258,6 @@ module bsd_exec #(
         end
     end
 
-    // Registers: the waiting reply and the waiting DIG_IO RFLX value. The
-    // parser never completes a packet that could need a slot while it is full
-    // (hold_o covers the clocks from the packet to its request).
-    //
-    // The reply is requested one clock after stage 2 (reply_q), so that the
-    // request and the slot's enables never wait for the whole decision: the
-    // slot takes stage 2's packet whenever it is free, and holds it once
-    // requested.
-
-    // hold_o: a slot is full, or a packet is on its way through the stages
-    // and may fill one. pending_q is that condition for every stage after
-    // the first, worked out a clock ahead so that hold_o (which gates the
-    // parser's s_axis_tready) is one gate. For the RFLX slot it ignores the
-    // clearing strobe (whose arbiter is deep) and so holds one clock longer.
-    reg  pending_q;
-    wire rep_req_d = reply_q || (rep_req_o && !rep_done_i);
-
     // The RFLX arbiter ranks the waiting DIG_IO value against the timers by
     // device ID; comparing here, as the value is stored, keeps the
     // comparators out of the arbiter's clock.
@@ -283,33 +267,52 @@ module bsd_exec #(
         for (b = 0; b < NUM_PINS; b = b + 1)
             below[b] = dev_id_q < TIMER_ID_BASE[5:0] + b[5:0];
     end
+
+    // Registers: the waiting reply and the waiting DIG_IO RFLX value. The
+    // parser never completes a packet that could need a slot while it is full
+    // (hold_o covers the clocks from the packet to its request).
+    //
+    // The slot takes stage 2's packet on every clock it is free, so its data
+    // enables never wait for the decision; the decision itself lands in a
+    // flop (reply_q), which is the request for one clock until the slot's own
+    // flag (rep_wait_q) takes over. The request thus rises when stage 2 ends,
+    // 3 clocks after the last byte, and comes from flops only.
+    reg rep_wait_q;
+    assign rep_req_o = reply_q || rep_wait_q;
+
+    // hold_o: a slot is full, or a packet is on its way through the stages
+    // and may fill one. pending_q is that condition for every stage after
+    // the first, worked out a clock ahead (from each flag's next value) so
+    // that hold_o, which gates the parser's s_axis_tready, is one gate.
+    reg  pending_q;
+    wire rep_wait_d = rep_req_o && !rep_done_i;
+    wire dio_req_d  = dio_rflx || (dio_rflx_req_o && !dio_rflx_done_i);
     assign hold_o = pkt_valid_i || pending_q;
 
     always @(posedge clk) begin
-        reply_q   <= reply;
-        pending_q <= pkt_valid_i || reply || rep_req_d || dio_rflx || dio_rflx_req_o;
+        reply_q    <= reply;
+        rep_wait_q <= rep_wait_d;
+        pending_q  <= pkt_valid_i || reply || rep_wait_d || dio_req_d;
         if (s_valid_q && !rep_req_o) begin
             rep_n_o    <= reply_n;
             rep_data_o <= reply_data;
         end
-        if (rep_done_i) rep_req_o <= 1'b0;
-        if (reply_q) rep_req_o <= 1'b1;
         if (dio_rflx_done_i) dio_rflx_req_o <= 1'b0;
         if (dio_rflx) begin
-            dio_rflx_req_o <= 1'b1;
-            dio_rflx_id_o  <= dev_id_q;
+            dio_rflx_req_o   <= 1'b1;
+            dio_rflx_id_o    <= dev_id_q;
             dio_rflx_val_o   <= pin_level_q;
             dio_rflx_below_o <= below;
         end
         if (rst) begin
             // The power-up message is the first packet out.
-            reply_q        <= 1'b0;
-            pending_q      <= 1'b1;  // the power-up message waits
-            rep_req_o      <= 1'b1;
-            rep_n_o        <= 3'd2;
-            rep_data_o     <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
-            dio_rflx_req_o <= 1'b0;
-            dio_rflx_id_o  <= 6'd0;
+            reply_q          <= 1'b0;
+            rep_wait_q       <= 1'b1;  // the power-up message waits
+            pending_q        <= 1'b1;
+            rep_n_o          <= 3'd2;
+            rep_data_o       <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
+            dio_rflx_req_o   <= 1'b0;
+            dio_rflx_id_o    <= 6'd0;
             dio_rflx_val_o   <= 1'b0;
             dio_rflx_below_o <= {NUM_PINS{1'b0}};
         end

@@ -9,8 +9,8 @@ module bsd_heartbeat #(
     input  wire       clk,
     input  wire       rst,
     input  wire       tick_i,
-    input  wire       answer_i,    // a host cmdHB packet with N >= 2
-    input  wire [7:0] answer_type_i,
+    input  wire       answer_i,       // a host cmdHB answer (N >= 2, type UP or DOWN + 2)
+    input  wire       answer_down_i,  // it answers a DOWN heartbeat
     output reg        req_o,       // a heartbeat packet waits to be sent
     output wire [7:0] type_o,      // its type byte
     input  wire       done_i,      // it has left
@@ -30,8 +30,8 @@ module bsd_heartbeat #(
     reg         answered_q;  // the latest one is answered
 
     wire due      = (HB_RATE != 0) && tick_i && at_end_q;
-    wire answer   = answer_i && queued_q &&
-                    answer_type_i == {7'd0, down_q} + HB_ANSWER_OFFSET;
+    // The answer must match the latest heartbeat's type.
+    wire answer   = answer_i && queued_q && answer_down_i == down_q;
     wire answered = answered_q || answer;
 
     assign type_o = {7'd0, down_q};

@@ -42,8 +42,10 @@ module bsd_rflx_arb #(
         end
     end
 
-    // The DIG_IO value goes first when it ranks below the lowest waiting timer.
-    wire pick_dio = dio_req_i && !(|(t_onehot & ~dio_below_i));
+    // The DIG_IO value goes first when it ranks below the lowest waiting timer,
+    // i.e. below every waiting timer (timer IDs rise with the pin), which
+    // needs no priority chain.
+    wire pick_dio = dio_req_i && !(|(timer_req_i & ~dio_below_i));
     assign dio_done_o = pick_dio;
     always @* timer_done_o = t_onehot & ~({NUM_PINS{dio_req_i}} & dio_below_i);
 

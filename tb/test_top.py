@@ -38,11 +38,12 @@ BUILDS: dict[str, Params] = {
 COMMON = ["test_dig_cfg", "test_dig_io", "test_messages", "test_framing", "test_stress"]
 TESTS: dict[str, list[str]] = {
     "gp1": COMMON + ["test_worked_examples", "test_dig_rst_latch", "test_throughput",
-                     "test_timers", "test_order_stalled", "test_reset_mid", "test_reply_hold"],
+                     "test_timers", "test_order_stalled", "test_reset_mid", "test_reply_hold",
+                     "test_reply_before_later_timer"],
     "slow_fixed": COMMON + ["test_rx_timeout", "test_long_stall", "test_timer_timeout",
                             "test_fixed_pins", "test_dig_rst_latch", "test_reset_mid"],
     "gp2": COMMON + ["test_worked_examples", "test_dig_rst_latch", "test_timers",
-                     "test_order_stalled"],
+                     "test_order_stalled", "test_reply_before_later_timer"],
     "high_ids": ["test_dig_io", "test_timers", "test_stress"],
     "heartbeat": ["test_heartbeat"],
 }

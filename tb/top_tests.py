@@ -11,7 +11,7 @@ import os
 import random
 
 import cocotb
-from cocotb.triggers import ReadOnly, RisingEdge
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from bsd_model import (
     CMD_DEV_VAL,
@@ -429,15 +429,19 @@ async def test_framing(dut) -> None:
 
 @cocotb.test()
 async def test_throughput(dut) -> None:
-    """With m_axis_tready high, commands without replies stream at one byte per clock."""
+    """With m_axis_tready high, commands without replies stream at one byte per clock,
+    DIG_IO reads with only the RFLX bit (a strobe, no packet) included."""
     tb, m = await setup(dut, pins=None)
     pin = P.free_pins[0]
     await configure(tb, m, pin, 0x00)
+    rpin = next((p for p in P.pins if p != pin and m.is_input(p)), None)
     stream = b""
     for i in range(20):
         stream += packet(A, CMD_DIG_IO, pin, i & 1)
         stream += packet(A, CMD_DIG_RST, (pin + 1) % P.num_pins)
         stream += packet(A, CMD_DIG_CFG, pin, 0x00)
+        if rpin is not None:  # back to back: the slot frees in time for the next one
+            stream += packet(A, CMD_DIG_IO, DEVCODE_RFLX | rpin) * 2
         stream += packet(A ^ 0x10, CMD_DIG_CFG, 0) + packet(A) + packet(0x11, 3, 4, 5, 6, 7, 8, 9, 10)
     exp = m.feed(stream)
     times = await tb.source.send(stream)
@@ -608,6 +612,34 @@ async def test_order_stalled(dut) -> None:
         f"two RFLX results of one clock must strobe on successive clocks: {strobes}"
     await tb.expect(exp, what="same-clock results")
     m.set_pins(tb.pins)
+    tb.check_no_errors()
+
+
+@cocotb.test()
+async def test_reply_before_later_timer(dut) -> None:
+    """DESIGN.md 1 at clock level: a command's reply or message is an event of the clock
+    the command executes. PTIME_RD with an extra byte starts the timer and answers
+    cmdTooLong; a pad edge the clock after its last byte ends the measurement a clock
+    after that start, so the message leaves first, then the result (1 tick)."""
+    tpins = [p for p in P.timer_pins if not P.is_fixed(p)]
+    need(len(tpins) >= 1, "a configurable timer pin")
+    pin = tpins[0]
+    tb, m = await setup(dut, pins=1 << pin)
+    await configure(tb, m, pin, DIGCFG_IODIR)  # edge mode, target 0; the pad is high
+    pkt = packet(A, CMD_PTIME_RD, DEVCODE_HOST | pin, 0)
+    exp = m.feed(pkt)
+    sent = tb.source.send_nowait(pkt)
+    while len(sent.times) < len(pkt):
+        await RisingEdge(dut.clk)
+        await ReadOnly()  # every coroutine of this edge has run: the times are final
+    await FallingEdge(dut.clk)  # right after the edge that took the last byte
+    tb.set_pin(pin, 0)
+    await tb.cycles(40)
+    got = timer_value(tb, m, pin)
+    assert got == 1, f"result {got} for an edge 1 clock after the start"
+    exp.extend(m.timer_complete(pin, got))
+    m.set_pin(pin, 0)
+    await tb.expect(exp, what="cmdTooLong, then the result")
     tb.check_no_errors()
 
 
