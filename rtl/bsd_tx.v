@@ -32,6 +32,7 @@ module bsd_tx #(
     // The packet going out.
     reg  [47:0]  buf_q;    // bytes still to send, first in the top byte
     reg  [2:0]   left_q;   // bytes still to send
+    reg          last_q;   // left_q == 1: the byte offered is the packet's last
     reg          valid_q;
     reg  [K-1:0] cur_q;    // its source (0 when none: cur_q, next_src_q and
                            // done_q are the sources the arbiter must skip)
@@ -42,7 +43,7 @@ module bsd_tx #(
     reg  [K-1:0] done_q;   // sources whose request falls this clock
 
     wire [K-1:0] gnt;
-    wire last  = (left_q == 3'd1);
+    wire last  = last_q;
     wire hs    = valid_q && m_axis_tready;
     wire load  = next_valid_q && (!valid_q || (hs && last));
     // The staging register samples the arbiter whenever it is free: its
@@ -77,11 +78,13 @@ module bsd_tx #(
         if (load) begin
             buf_q   <= {ADDR_OWN, 5'd0, sel_n, sel_data};
             left_q  <= sel_n + 3'd2;
+            last_q  <= 1'b0;  // a packet is at least A, N
             valid_q <= 1'b1;
             cur_q   <= next_src_q;
         end else if (hs) begin
             buf_q   <= {buf_q[39:0], 8'd0};
             left_q  <= left_q - 3'd1;
+            last_q  <= left_q == 3'd2;
             if (last) begin
                 valid_q <= 1'b0;
                 cur_q   <= {K{1'b0}};
@@ -95,6 +98,7 @@ module bsd_tx #(
         if (rst) begin
             buf_q        <= 48'd0;
             left_q       <= 3'd0;
+            last_q       <= 1'b0;
             valid_q      <= 1'b0;
             cur_q        <= {K{1'b0}};
             next_valid_q <= 1'b0;
