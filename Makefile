@@ -84,8 +84,11 @@ synth: $(SYNTH_STAMP)
 bitstream: $(SYNTH_STAMP)
 	$(VPY) synth/synth.py --bitstream
 
-test: $(STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE $(PYTEST_ARGS) tb
+# make test: lint first (CI runs exactly this), then the whole regression; pytest's summary
+# ends with the slowest tests, the measured figures and the build count.
+test: lint
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb
 
 clean:
-	rm -rf sim_build sim/build synth/build .pytest_cache tb/__pycache__
+	rm -rf sim_build sim/build synth/build .pytest_cache
+	find tb -name __pycache__ -prune -exec rm -rf {} +

@@ -1,7 +1,9 @@
-"""cocotb tests of bsd_parser (run from tb/test_blocks.py).
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_parser, and their pytest entry.
 
-HDL parameters arrive through the environment as well (BSD_MODULE_ADDR,
-BSD_RX_TIMEOUT_US). The test drives tick_i itself.
+Builds: (MODULE_ADDR, RX_TIMEOUT_US) = (2, 20 us = 12.5 ticks: 13 -> 14 idle ticks),
+(254, 16 us = exactly 10 ticks -> 11), (0x40, 0 = no timeout), (2, 25 600 = the default:
+16 000 -> 16 001). The test drives tick_i itself.
 
 Inputs are driven on the falling edge; s_axis_tready is read in ReadOnly() right
 after that (the value the next rising edge uses), pkt_* in ReadOnly() after the
@@ -29,20 +31,29 @@ DESIGN.md decisions 2 and 10), written from the contract:
 
 from __future__ import annotations
 
-import os
-
 import cocotb
-from cocotb.clock import Clock
+import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
+from clocked_tb import ClockedTB
+from runner import hdl_params
 from seeding import make_rng
+from suite import Suite
 
 PERIOD_NS = 10
 ADDR_RESYNC = 0xAD
 KIND_CMD, KIND_PROBE, KIND_SERIAL = 0, 1, 2
 
-MODULE_ADDR = int(os.environ.get("BSD_MODULE_ADDR", "2"))
-RX_TIMEOUT_US = int(os.environ.get("BSD_RX_TIMEOUT_US", "25600"))
+BUILDS = {
+    f"addr{a}-to{t}us": {"MODULE_ADDR": a, "RX_TIMEOUT_US": t}
+    for a, t in [(2, 20), (254, 16), (0x40, 0), (2, 25_600)]
+}
+TIMED = [b for b, p in BUILDS.items() if p["RX_TIMEOUT_US"]]
+UNTIMED = [b for b, p in BUILDS.items() if not p["RX_TIMEOUT_US"]]
+SUITE = Suite(__file__, "bsd_parser", BUILDS)
+
+MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", 2))
+RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", 25_600))
 
 
 def timeout_ticks(us: int) -> int:
@@ -109,30 +120,23 @@ class FramingModel:
         return out
 
 
-class ParserTB:
+class ParserTB(ClockedTB):
+    """step() reads tready in the middle of its clock as well, so it is its own; the
+    short keyword names below stand for the ports."""
+
+    PORTS = {"tvalid": "s_axis_tvalid", "tdata": "s_axis_tdata", "hold": "hold_i", "tick": "tick_i"}
+    INPUTS = {port: 0 for port in PORTS.values()}
+    PERIOD_NS = PERIOD_NS
+
     def __init__(self, dut):
-        self.dut = dut
+        super().__init__(dut, "parser")
         self.model = FramingModel(MODULE_ADDR, T_TICKS)
-        self.cur = dict(tvalid=0, tdata=0, hold=0, tick=0)
         self.edge = 0
         self.pkts: list[tuple] = []
-        dut.rst.value = 1
-        dut.s_axis_tvalid.value = 0
-        dut.s_axis_tdata.value = 0
-        dut.hold_i.value = 0
-        dut.tick_i.value = 0
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start(start_high=False)
 
     def _apply(self, rst: int, kw: dict) -> dict:
-        v = dict(self.cur, **kw)
-        self.cur = v
-        d = self.dut
-        d.rst.value = rst
-        d.s_axis_tvalid.value = v["tvalid"]
-        d.s_axis_tdata.value = v["tdata"]
-        d.hold_i.value = v["hold"]
-        d.tick_i.value = v["tick"]
-        return v
+        vals = self.drive(rst, **{self.PORTS[k]: v for k, v in kw.items()})
+        return {k: vals[port] for k, port in self.PORTS.items()}
 
     def _read_pkt(self):
         d = self.dut
@@ -223,7 +227,7 @@ OTHER_ADDRS = [a for a in (0, 1, 3, 4, 0x7F, 0x80, 0xAC, 0xAE, 0xFE, 0xFF)
                if a != MODULE_ADDR]  # fmt: skip
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_own_packets(dut):
     """Own-address packets of N = 1..8: KIND_CMD with N and the first three data bytes."""
     tb = ParserTB(dut)
@@ -238,7 +242,7 @@ async def test_own_packets(dut):
         assert d[: min(n, 3)] == data[:3]
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_other_addresses_silent(dut):
     """Other addresses (and 0xAD with N > 0) are consumed silently, byte for byte:
     a packet to A right behind them is framed correctly."""
@@ -254,7 +258,7 @@ async def test_other_addresses_silent(dut):
             assert pkts[0][:2] == (KIND_CMD, 2) and pkts[0][2][:2] == [0x1B, 0x80], pkts
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_probe_and_empty(dut):
     tb = ParserTB(dut)
     await tb.reset()
@@ -267,7 +271,7 @@ async def test_probe_and_empty(dut):
     assert [p[:2] for p in pkts] == [(KIND_PROBE, 0), (KIND_PROBE, 0)], pkts
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_length_over_8(dut):
     """N > 8: KIND_SERIAL only for the own address; the next byte is an address."""
     tb = ParserTB(dut)
@@ -285,7 +289,7 @@ async def test_length_over_8(dut):
             assert pkts[0][2][0] == 0x63, pkts
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_back_to_back_full_rate(dut):
     """hold_i = 0 and tvalid always 1: one byte per clock, tready never drops."""
     tb = ParserTB(dut)
@@ -306,7 +310,7 @@ async def test_back_to_back_full_rate(dut):
     assert len(tb.pkts) > 25
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_hold_stalls_only_reply_capable_packets(dut):
     """With hold_i = 1, tready is 0 exactly for the last data byte of a packet to A and
     for the byte after a length byte that ended a packet with a reply (0xAD with N = 0,
@@ -360,7 +364,7 @@ async def test_hold_stalls_only_reply_capable_packets(dut):
 TIMEOUT_EVERY = [1, 8] if T_TICKS and T_TICKS < 200 else [1]
 
 
-@cocotb.test(skip=RX_TIMEOUT_US == 0)
+@SUITE.test(*TIMED)
 @cocotb.parametrize(every=TIMEOUT_EVERY, late=[0, 1])
 async def test_inter_byte_timeout(dut, every, late):
     """A partial packet survives T_TICKS - 1 idle ticks and is dropped by the
@@ -406,7 +410,7 @@ async def test_inter_byte_timeout(dut, every, late):
         await tb.reset()  # clean framing for the next partial
 
 
-@cocotb.test(skip=RX_TIMEOUT_US == 0)
+@SUITE.test(*TIMED)
 async def test_timeout_not_while_stalled(dut):
     """Ticks while tready is 0 (hold; tvalid high or low) never count; idle ticks
     before and after a stall add up."""
@@ -442,7 +446,7 @@ async def test_timeout_not_while_stalled(dut):
     assert [p[0] for p in tb.pkts] == [KIND_PROBE], tb.pkts
 
 
-@cocotb.test(skip=RX_TIMEOUT_US != 0)
+@SUITE.test(*UNTIMED)
 async def test_no_timeout_when_zero(dut):
     """RX_TIMEOUT_US = 0: a partial packet waits forever."""
     tb = ParserTB(dut)
@@ -453,7 +457,7 @@ async def test_no_timeout_when_zero(dut):
     assert [p[:2] for p in pkts] == [(KIND_CMD, 2)] and pkts[0][2][:2] == [0x1A, 3], pkts
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_reset_mid_packet(dut):
     tb = ParserTB(dut)
     await tb.reset()
@@ -463,7 +467,7 @@ async def test_reset_mid_packet(dut):
     assert [p[0] for p in pkts] == [KIND_PROBE], pkts
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_random_stream_vs_model(dut):
     """Random byte streams (well-formed and garbage), random tvalid gaps, hold_i and
     tick_i; tready and every packet compared with FramingModel on every clock.
@@ -519,3 +523,8 @@ async def test_random_stream_vs_model(dut):
     assert kinds.count(KIND_CMD) > 20 and kinds.count(KIND_PROBE) > 5
     if T_TICKS and T_TICKS < 50:
         assert tb.model.drops > 5, "random stimulus hardly reached the inter-byte timeout"
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_parser(case) -> None:
+    SUITE.run(case)

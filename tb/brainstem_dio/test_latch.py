@@ -1,27 +1,24 @@
-"""The one-shot transition latch at the top level (PROTOCOL.md §4.1): seeded random pad
-changes, DIG_RST and DIG_CFG sets checked against the model; the POLL_HZ sampling grid; and
-the clock on which a re-arm meets a matching edge (docs/DESIGN.md decision 5)."""
+# SPDX-License-Identifier: Apache-2.0
+"""The one-shot transition latch at the top level of brainstem_dio (PROTOCOL.md §4.1,
+docs/DESIGN.md decision 5): directed fire/spent/re-arm sequences on every configurable pin;
+seeded random pad changes, DIG_RST and DIG_CFG sets checked against the model; the POLL_HZ
+sampling grid; and the clock on which a re-arm meets a matching edge.
+"""
 
 from __future__ import annotations
 
 import cocotb
+import pytest
 from cocotb.triggers import ReadOnly, RisingEdge, Timer
 
-from bsd_model import (
-    CMD_DIG_CFG,
-    CMD_DIG_RST,
-    DIGCFG_ENA,
-    DIGCFG_IODIR,
-    DIGCFG_TRG,
-    Model,
-    Params,
-    packet,
-)
+from bsd_model import (CMD_DIG_CFG, CMD_DIG_RST, DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_TRG, Model,
+                       Output, Params, packet)
 from bsd_tb import TB, TBError
+from suite import Suite
+from top_builds import BUILDS
+from top_helpers import A, OUT_OF_RANGE, P, configure, need, set_pins_checked, setup
 
-
-# Which tests apply depends on the build's parameters.
-BUILD = Params.from_env()
+SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 
 # A command's state change lands this many clocks after its last byte's handshake
 # (docs/DESIGN.md, "Latencies").
@@ -33,10 +30,10 @@ def hold_s(p: Params) -> float:
     return 2.5 / p.poll_hz if p.poll_hz else 20 / p.clk_hz
 
 
-@cocotb.test()
-async def random_sequence(dut):
+@SUITE.test("clk8", "clk8_poll0")
+async def test_random_sequence(dut) -> None:
     """Random pad levels, DIG_RST and DIG_CFG sets (ENA, TRG, IODIR) on every free pin."""
-    p = BUILD
+    p = P
     tb = TB(dut, p)
     model = Model(p)
     await tb.start(model)
@@ -61,11 +58,11 @@ async def random_sequence(dut):
     tb.check_no_errors()
 
 
-@cocotb.test(skip=not BUILD.poll_hz)
-async def polling_grid(dut):
+@SUITE.test("clk8")
+async def test_polling_grid(dut) -> None:
     """POLL_HZ > 0: the latch fires on a poll, so a glitch between two polls is never seen
     and every raw_trans pulse lands on the poll grid that starts at reset."""
-    p = BUILD
+    p = P
     tb = TB(dut, p)
     model = Model(p)
     await tb.start(model)
@@ -100,14 +97,14 @@ async def polling_grid(dut):
     tb.log.info("raw_trans %.2f clocks after a poll", off_clocks)
 
 
-@cocotb.test(skip=bool(BUILD.poll_hz))
-async def rearm_meets_edge(dut):
+@SUITE.test("clk8_poll0")
+async def test_rearm_meets_edge(dut) -> None:
     """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad rises, at every clock
     offset around the command. The re-arm takes effect EXEC_CLOCKS after the last byte's
     handshake and sees the pad 2 clocks late: an edge whose synchronized level arrives
     before the arm clock fires (then the arm re-baselines); one that arrives on the arm
     clock is absorbed (decision 5: re-arm wins); a later one fires after the arm."""
-    p = BUILD
+    p = P
     tb = TB(dut, p)
     await tb.start()
     a, pin = p.module_addr, p.free_pins[0]
@@ -154,3 +151,53 @@ async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int) -> None
         await RisingEdge(tb.clk)
     await Timer(extra_ps, unit="ps")
     tb.set_pin(pin, 1)
+
+
+@SUITE.test("gp1", "slow_fixed", "gp2")
+async def test_dig_rst_latch(dut) -> None:
+    """ENA/TRG one-shot on raw_trans: fires once per arm in the TRG direction, a present
+    level never fires, DIG_RST and DIG_CFG set re-arm, ENA = 0 and outputs never fire,
+    DIG_RST on an output or disabled pin is silent, several pins on one sample: ascending."""
+    tb, m = await setup(dut, pins=0)
+    free = [p for p in P.free_pins]
+    need(bool(free), "a configurable pin")
+    for pin in free:
+        lv = lambda level: tb.pins & ~(1 << pin) | (level << pin)  # noqa: E731
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)  # rising
+        await set_pins_checked(tb, m, lv(1))  # fires
+        await set_pins_checked(tb, m, lv(0))
+        await set_pins_checked(tb, m, lv(1))  # one-shot: nothing
+        await tb.command(m, packet(A, CMD_DIG_RST, pin))  # re-armed at level 1
+        await set_pins_checked(tb, m, lv(0))  # falling: not the TRG direction
+        await set_pins_checked(tb, m, lv(1))  # fires
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_ENA)  # falling, re-armed at 1
+        await set_pins_checked(tb, m, lv(0))  # fires
+        await set_pins_checked(tb, m, lv(1))
+        await tb.command(m, packet(A, CMD_DIG_RST, pin, 0))  # re-arm + cmdTooLong
+        await set_pins_checked(tb, m, lv(0))  # fires
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_TRG)  # ENA = 0
+        await set_pins_checked(tb, m, lv(1))
+        await tb.command(m, packet(A, CMD_DIG_RST, pin))  # silent, inert
+        await set_pins_checked(tb, m, lv(0))
+        await configure(tb, m, pin, DIGCFG_ENA | DIGCFG_TRG)  # output with ENA
+        await tb.command(m, packet(A, CMD_DIG_RST, pin))  # silent
+        await set_pins_checked(tb, m, lv(1))
+        await set_pins_checked(tb, m, lv(0))
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)
+        # A level already present never fires by itself.
+        await set_pins_checked(tb, m, lv(0))
+        await tb.cycles(200)
+        await tb.expect(Output(), what="idle armed pin")
+    for pin in OUT_OF_RANGE:
+        await tb.command(m, packet(A, CMD_DIG_RST, pin))
+    await tb.command(m, packet(A, CMD_DIG_RST))
+    # Every free pin armed for rising edges, all rise on one sample: ascending pin order.
+    for pin in free:
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)
+    await set_pins_checked(tb, m, tb.pins | sum(1 << p for p in free))
+    tb.check_no_errors()
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_latch_top(case) -> None:
+    SUITE.run(case)

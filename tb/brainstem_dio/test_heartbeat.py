@@ -1,15 +1,23 @@
-"""cmdHB (PROTOCOL.md §3): the core's UP/DOWN heartbeats every HB_RATE x 25.6 ms and
-`link_up` with host answers in time, late, missing and wrong, and with a stalled output
-(a heartbeat that falls due while the previous one is unsent is skipped). Built with a slow
-clock and HB_RATE = 1 so a period is only 51 200 clocks; the model gives every expected
-packet and link state."""
+# SPDX-License-Identifier: Apache-2.0
+"""cmdHB (PROTOCOL.md §3) at the top level of brainstem_dio: the core's UP/DOWN heartbeats
+every HB_RATE x 25.6 ms and `link_up` with host answers in time, late, missing and wrong,
+and with a stalled output (a heartbeat that falls due while the previous one is unsent is
+skipped). Built with a slow clock and HB_RATE = 1 so a period is only 51 200 clocks; the
+model gives every expected packet and link state. (Without heartbeats, link_up 0 is also
+checked by test_commands' test_messages on every build.)
+"""
 
 from __future__ import annotations
 
-import cocotb
+import pytest
 
-from bsd_model import CMD_HB, HB_ANSWER, TICK_S, Model, Output, Params, packet
+from bsd_model import CMD_HB, HB_ANSWER, TICK_S, Model, Output, packet
 from bsd_tb import TB, TBError
+from suite import Suite
+from top_builds import BUILDS
+from top_helpers import P, need
+
+SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 
 
 class HeartbeatTB(TB):
@@ -53,13 +61,13 @@ class HeartbeatTB(TB):
         self.check_link(model, f"after the answer {kind}")
 
 
-# Which tests apply depends on the build's parameters.
-BUILD = Params.from_env()
-
-
-@cocotb.test(skip=not BUILD.hb_rate)
-async def heartbeats_and_link_up(dut):
-    p = BUILD
+@SUITE.test("heartbeat")
+async def test_heartbeats_and_link_up(dut) -> None:
+    """First heartbeat one period after reset, UP/DOWN alternating, each on its due time;
+    link_up checked just before and after every due time: answered in time, missing, late
+    (answering the previous one), wrong; an answer with extra bytes counts; every other
+    cmdHB shape is silent; a heartbeat due while the previous is unsent is skipped."""
+    p = P
     tb = HeartbeatTB(dut, p)
     model = Model(p)
     await tb.begin(model)
@@ -78,11 +86,12 @@ async def heartbeats_and_link_up(dut):
     await tb.next_due(model)
     # Missing: the next due time takes the link down.
     await tb.next_due(model)
-    # Late (answers the previous heartbeat) and wrong answers leave it down; the right one
-    # brings it up.
+    # Late (answers the previous heartbeat) and wrong answers leave it down; the right one,
+    # here with extra bytes after the type, brings it up.
     await tb.answer(model, 1 + HB_ANSWER)
     await tb.answer(model, 7)
-    await tb.answer(model, 0 + HB_ANSWER)
+    await tb.command(model, packet(a, CMD_HB, 0 + HB_ANSWER, 0, 0))
+    tb.check_link(model, "after the right answer with extra bytes")
     # Host cmdHB packets of every other shape are consumed silently.
     for data in ([CMD_HB], [CMD_HB, 0 + HB_ANSWER, 0xFF], [CMD_HB, 0, 1, 2, 3, 4, 5, 6]):
         await tb.command(model, bytes([a, len(data), *data]))
@@ -100,10 +109,11 @@ async def heartbeats_and_link_up(dut):
     tb.check_no_errors()
 
 
-@cocotb.test(skip=bool(BUILD.hb_rate))
-async def no_heartbeat_when_off(dut):
+@SUITE.test("clk2")
+async def test_no_heartbeat_when_off(dut) -> None:
     """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the host sends."""
-    p = BUILD
+    p = P
+    need(not p.hb_rate, "HB_RATE = 0")
     tb = TB(dut, p)
     model = Model(p)
     await tb.start(model)
@@ -116,3 +126,8 @@ async def no_heartbeat_when_off(dut):
     if int(dut.link_up.value) != 0:
         raise TBError("link_up without HB_RATE")
     tb.check_no_errors()
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_heartbeat_top(case) -> None:
+    SUITE.run(case)

@@ -1,4 +1,4 @@
-"""Reference model of brainstem_dio: the contract (shared/spec/PROTOCOL.md) plus the
+"""Reference model of brainstem_dio: the contract (docs/PROTOCOL.md) plus the
 decisions of docs/DESIGN.md.
 
 The model is untimed. It is fed host bytes (`Model.feed`) and pad level changes
@@ -18,9 +18,10 @@ Time only enters in three places, each made explicit so the testbench supplies i
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import asdict, dataclass, field, fields
-from typing import Iterable, Sequence
+from typing import Iterable, Mapping, Sequence
+
+from runner import hdl_params
 
 # --- protocol constants (PROTOCOL.md §2, §3) -------------------------------------------
 
@@ -69,8 +70,6 @@ TICK_HZ = 625_000
 TICK_S = 1.0 / TICK_HZ
 TIMER_MAX_TICKS = 65_535
 TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S
-
-PARAMS_ENV = "BSD_PARAMS"
 
 
 # --- parameters ---------------------------------------------------------------------------
@@ -132,18 +131,26 @@ class Params:
             "HB_RATE": self.hb_rate,
         }
 
-    def to_json(self) -> str:
-        return json.dumps(asdict(self), sort_keys=True)
-
     @classmethod
-    def from_json(cls, text: str) -> Params:
-        return cls(**json.loads(text))
+    def from_hdl(cls, hdl: Mapping[str, object]) -> Params:
+        """The inverse of to_hdl (missing names keep their defaults; other keys, such as a
+        wrapper's BAUD, are not the core's and are ignored)."""
+        names = {f.name for f in fields(cls)}
+        values = {}
+        for key, value in hdl.items():
+            name = key.lower()
+            if name in names:
+                # "5'h1e" -> 0x1e
+                values[name] = int(value.split("'h")[1], 16) if isinstance(value, str) else int(value)
+        return cls(**values)
 
     @classmethod
     def from_env(cls) -> Params:
-        """The parameter set test_top.py built the simulation with (defaults if none)."""
-        text = os.environ.get(PARAMS_ENV)
-        return cls.from_json(text) if text else cls()
+        """Inside a cocotb test: the parameter set the simulation was built with."""
+        return cls.from_hdl(hdl_params())
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self), sort_keys=True)
 
     def replace(self, **changes: int) -> Params:
         values = {f.name: getattr(self, f.name) for f in fields(self)}
