@@ -1,4 +1,4 @@
-"""Reference model of brainstem_dio: the contract (shared/spec/PROTOCOL.md) plus the
+"""Reference model of brainstem_dio: the contract (docs/PROTOCOL.md) plus the
 decisions of docs/DESIGN.md.
 
 The model is untimed. It is fed host bytes (`Model.feed`) and pad level changes
