@@ -112,10 +112,8 @@ class _Section:
         self.used: set[str] = set()
 
     def opt_int(self, key: str, lo: int = 0, hi: int = 255) -> int | None:
-        return self.int(key, lo, hi) if key in self.data else self._use(key)
-
-    def _use(self, key: str) -> None:
-        self.used.add(key)
+        """An optional integer: None when the key is absent."""
+        return self.int(key, lo, hi) if key in self.data else None
 
     def int(self, key: str, lo: int = 0, hi: int = 255) -> int:
         self.used.add(key)
@@ -537,7 +535,8 @@ def render_all(p: Protocol) -> dict[str, str]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
-        description="Generate the protocol constants (" + ", ".join(p for p, _ in OUTPUTS) + f") from {TABLE}.")
+        description="Generate the protocol constants (" + ", ".join(p for p, _ in OUTPUTS) + f") from {TABLE}.",
+        epilog="Exit status: 0 up to date (or written), 1 stale files (--check), 2 a bad table or path.")
     ap.add_argument("--check", action="store_true",
                     help="write nothing; exit 1 and list the generated files that are stale or missing")
     ap.add_argument("--root", type=Path, default=ROOT,
