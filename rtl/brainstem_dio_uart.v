@@ -44,7 +44,7 @@ module brainstem_dio_uart #(
     output wire                frame_err,    // one-clock strobe: a byte with a bad stop bit was dropped
     output reg                 rx_overflow   // one-clock strobe (a clock late): a byte was dropped, FIFO full
 );
-    localparam integer MSG_CMD_Q_OVERFLOW = 12;
+    `include "bsd_protocol.vh"
 
     // ------------------------------------------------------------ receive
     wire [7:0] rx_data;

@@ -9,7 +9,7 @@
 // the message's last byte.
 module bsd_msg_merge #(
     parameter integer MODULE_ADDR = 2,
-    parameter integer CODE        = 12
+    parameter [7:0]   CODE        = 8'd0  // the message code, set by the instance (no default message)
 ) (
     input  wire       clk,
     input  wire       rst,
@@ -24,10 +24,10 @@ module bsd_msg_merge #(
     input  wire       m_axis_tready,
     output wire       m_axis_tlast
 );
+    `include "bsd_protocol.vh"
+
     localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
     localparam [7:0] MSG_CODE = CODE[7:0];
-    localparam [7:0] MSG_N    = 8'd2;
-    localparam [7:0] CMD_MSG  = 8'h80;
 
     reg       mid_q;    // a stream packet is part-way out
     reg       stall_q;  // a stream byte was offered and not taken: it stays offered

@@ -14,6 +14,10 @@
 // A bad line or a failed expect stops the run with file:line and exit code 1.
 //
 // Usage: session [--bench CYCLES] [--no-wave] [--wave FILE] [--quiet] SCRIPT
+//
+// The protocol's numbers and names come from bsd_protocol.h (generated from
+// tools/protocol.toml). The core's parameters come from the build: the Makefile passes
+// the same values to Verilator (-G) and here (-D), from one set of make variables.
 
 #include <cctype>
 #include <cerrno>
@@ -30,6 +34,7 @@
 #include <vector>
 
 #include "Vbrainstem_dio.h"
+#include "bsd_protocol.h"
 #include "verilated.h"
 #if VM_TRACE_FST
 #include "verilated_fst_c.h"
@@ -46,19 +51,22 @@ struct Trace {
 };
 #endif
 
-#ifndef CLK_HZ
-#define CLK_HZ 48000000
+#if !defined(BSD_CLK_HZ) || !defined(BSD_MODULE_ADDR) || !defined(BSD_NUM_PINS) || \
+    !defined(BSD_PIN_ID_BASE) || !defined(BSD_TIMER_ID_BASE) || !defined(BSD_TRANS_ID_BASE)
+#error "build with make (sim-build): BSD_CLK_HZ, BSD_MODULE_ADDR, BSD_NUM_PINS, BSD_*_ID_BASE = the model's -G values"
 #endif
 
 namespace {
 
-// GP 1.0 defaults of the core's parameters (the runner builds with them).
-constexpr int kModuleAddr = 2;
-constexpr int kNumPins = 5;
-constexpr int kPinIdBase = 5;
-constexpr int kTimerIdBase = 10;
-constexpr int kTransIdBase = 15;
-constexpr double kTickUs = 1.6;
+// The core's parameters this runner was built for (the same as the model's).
+constexpr uint64_t kClkHz = BSD_CLK_HZ;
+constexpr int kModuleAddr = BSD_MODULE_ADDR;
+constexpr int kNumPins = BSD_NUM_PINS;
+constexpr int kPinIdBase = BSD_PIN_ID_BASE;
+constexpr int kTimerIdBase = BSD_TIMER_ID_BASE;
+constexpr int kTransIdBase = BSD_TRANS_ID_BASE;
+static_assert(kNumPins >= 1 && kNumPins <= 64, "NUM_PINS is 1..64");
+constexpr double kTickUs = 1e6 / bsd::TICK_HZ;
 
 // A VCD of every clock of a 100 ms wait would take hundreds of MB, so without
 // FST the waveform keeps only the clocks within this long after a port event.
@@ -187,17 +195,8 @@ std::vector<Step> parse_script(const std::string& path) {
 }
 
 const char* message_name(uint8_t code) {
-    switch (code) {
-        case 4: return "power reset";
-        case 8: return "cmd invalid";
-        case 9: return "cmd too long";
-        case 10: return "cmd index error";
-        case 15: return "timer conflict";
-        case 27: return "cmd too short";
-        case 28: return "serial error";
-        case 29: return "config error";
-        default: return "message";
-    }
+    const char* text = bsd::message_text(code);
+    return text ? text : "message";
 }
 
 std::string hex_packet(const std::vector<uint8_t>& p, bool with_len) {
@@ -214,11 +213,11 @@ std::string hex_packet(const std::vector<uint8_t>& p, bool with_len) {
 }
 
 std::string decode_cfg(uint8_t c) {
-    std::string s = (c & 1) ? "input" : "output";
-    if (c & 0x02) s += std::string(", latch on ") + ((c & 0x04) ? "0->1" : "1->0");
-    if (c & 0x10) s += std::string(", width timer of ") + ((c & 0x08) ? "high" : "low");
-    else if (c & 0x08) s += ", edge timer to high";
-    if (c & 0x80) s += ", fixed";
+    std::string s = (c & bsd::DIGCFG_IODIR) ? "input" : "output";
+    if (c & bsd::DIGCFG_ENA) s += std::string(", latch on ") + ((c & bsd::DIGCFG_TRG) ? "0->1" : "1->0");
+    if (c & bsd::DIGCFG_TMODE) s += std::string(", width timer of ") + ((c & bsd::DIGCFG_TSTATE) ? "high" : "low");
+    else if (c & bsd::DIGCFG_TSTATE) s += ", edge timer to high";
+    if (c & bsd::DIGCFG_FIXED) s += ", fixed";
     return s;
 }
 
@@ -227,17 +226,17 @@ std::string decode(const std::vector<uint8_t>& p) {
     const size_t n = p[1];
     if (n == 0) return "resync reply";
     const uint8_t cmd = p[2];
-    if (cmd == 0x80 && n == 2) return "";
-    if (cmd == 0 && n == 2) return p[3] ? "heartbeat DOWN" : "heartbeat UP";
-    if (cmd == 26 && n == 3) {
+    if (cmd == bsd::CMD_MSG && n == bsd::MSG_N) return "";
+    if (cmd == bsd::CMD_HB && n == 2) return p[3] == bsd::HB_UP ? "heartbeat UP" : "heartbeat DOWN";
+    if (cmd == bsd::CMD_DIG_CFG && n == 3) {
         std::snprintf(b, sizeof b, "pin %d config 0x%02X: %s", p[3], p[4], decode_cfg(p[4]).c_str());
         return b;
     }
-    if (cmd == 4 && n == 3) {
+    if (cmd == bsd::CMD_DEV_VAL && n == 3) {
         std::snprintf(b, sizeof b, "pin %d level %d", p[3] - kPinIdBase, p[4]);
         return b;
     }
-    if (cmd == 4 && n == 4) {
+    if (cmd == bsd::CMD_DEV_VAL && n == 4) {
         const unsigned ticks = (p[4] << 8) | p[5];
         if (ticks == 0)
             std::snprintf(b, sizeof b, "pin %d timer: timeout", p[3] - kTimerIdBase);
@@ -274,7 +273,7 @@ class Session {
     }
 
     uint64_t cycles() const { return cycle_; }
-    double now() const { return static_cast<double>(cycle_) / CLK_HZ; }
+    double now() const { return static_cast<double>(cycle_) / kClkHz; }
 
     void reset() {
         txq_.clear();
@@ -287,7 +286,7 @@ class Session {
     }
 
     void run_for(double seconds) {
-        const uint64_t end = cycle_ + static_cast<uint64_t>(seconds * CLK_HZ + 0.5);
+        const uint64_t end = cycle_ + static_cast<uint64_t>(seconds * kClkHz + 0.5);
         while (cycle_ < end) clock();
     }
 
@@ -295,7 +294,7 @@ class Session {
         std::vector<uint8_t> pkt{addr_and_data[0], static_cast<uint8_t>(addr_and_data.size() - 1)};
         pkt.insert(pkt.end(), addr_and_data.begin() + 1, addr_and_data.end());
         for (uint8_t b : pkt) txq_.push_back(b);
-        const uint64_t limit = cycle_ + static_cast<uint64_t>(kSendLimitS * CLK_HZ);
+        const uint64_t limit = cycle_ + static_cast<uint64_t>(kSendLimitS * kClkHz);
         while (!txq_.empty()) {
             if (cycle_ >= limit) throw Fail{"the core did not take the packet within 1 s"};
             clock();
@@ -305,13 +304,13 @@ class Session {
 
     void set_pin(int pin, int level) {
         last_event_ = cycle_;
-        if (level) top_->pin_i |= (1u << pin);
-        else top_->pin_i &= ~(1u << pin);
+        if (level) top_->pin_i |= uint64_t{1} << pin;  // pin_i is 8 to 64 bits wide
+        else top_->pin_i &= ~(uint64_t{1} << pin);
     }
     int pin(int p) const { return (top_->pin_i >> p) & 1; }
 
     std::vector<uint8_t> next_packet() {
-        const uint64_t limit = cycle_ + static_cast<uint64_t>(kExpectLimitS * CLK_HZ);
+        const uint64_t limit = cycle_ + static_cast<uint64_t>(kExpectLimitS * kClkHz);
         while (out_.empty()) {
             if (cycle_ >= limit) throw Fail{"no packet from the core within 200 ms"};
             clock();
@@ -324,9 +323,12 @@ class Session {
     // Busy traffic for the benchmark: back-to-back configuration, reads and
     // timer starts while two pins toggle, for `n` clock cycles.
     void bench(uint64_t n) {
+        using namespace bsd;
+        constexpr uint8_t A = kModuleAddr, H = DEVCODE_HOST;
         static const std::vector<std::vector<uint8_t>> cmds = {
-            {2, 26, 3, 0x19}, {2, 29, 0x83}, {2, 27, 0x80}, {2, 26, 4, 0x01},
-            {2, 29, 0x84},    {2, 28, 2},    {2, 26, 1, 0x01}, {2, 29, 0x81}};
+            {A, CMD_DIG_CFG, 3, 0x19}, {A, CMD_PTIME_RD, H | 3}, {A, CMD_DIG_IO, H | 0},
+            {A, CMD_DIG_CFG, 4, 0x01}, {A, CMD_PTIME_RD, H | 4}, {A, CMD_DIG_RST, 2},
+            {A, CMD_DIG_CFG, 1, 0x01}, {A, CMD_PTIME_RD, H | 1}};
         const uint64_t end = cycle_ + n;
         size_t k = 0;
         while (cycle_ < end) {
@@ -384,7 +386,7 @@ class Session {
             out_.push_back(std::move(p));
             return;
         }
-        if (p.size() >= 4 && p[1] == 2 && p[2] == 0x80) {
+        if (p.size() >= 4 && p[1] == bsd::MSG_N && p[2] == bsd::CMD_MSG) {
             char b[48];
             std::snprintf(b, sizeof b, "< %d:%s", p[0], message_name(p[3]));
             log(b, "(" + hex_packet(p, false) + ")");
@@ -394,9 +396,9 @@ class Session {
         out_.push_back(p);
     }
 
-    void raw_inputs(uint32_t bits) {
+    void raw_inputs(uint64_t bits) {
         for (int p = 0; p < kNumPins; ++p) {
-            if (bits & (1u << p)) {
+            if (bits & (uint64_t{1} << p)) {
                 char b[64];
                 std::snprintf(b, sizeof b, "* raw input %d", kTransIdBase + p);
                 log(b, "pin " + std::to_string(p) + " transition latch fired");
@@ -409,7 +411,7 @@ class Session {
     bool quiet_;
     uint64_t cycle_ = 0;
     uint64_t last_event_ = 0;
-    const uint64_t window_ = static_cast<uint64_t>(kVcdWindowS * CLK_HZ);
+    const uint64_t window_ = static_cast<uint64_t>(kVcdWindowS * kClkHz);
     std::deque<uint8_t> txq_;
     std::vector<uint8_t> cur_;
     std::deque<std::vector<uint8_t>> out_;
@@ -485,7 +487,7 @@ int main(int argc, char** argv) {
             return 2;
         }
         const std::vector<Step> steps = parse_script(script);
-        std::printf("brainstem_dio session: %s, clk %.3f MHz, module %d\n", script, CLK_HZ / 1e6, kModuleAddr);
+        std::printf("brainstem_dio session: %s, clk %.3f MHz, module %d\n", script, kClkHz / 1e6, kModuleAddr);
         Session s(ctx.get(), use_wave ? wave.c_str() : nullptr, quiet);
         play(s, steps, script);
         std::printf("done: %.6f s simulated, %" PRIu64 " cycles%s%s\n", s.now(), s.cycles(),

@@ -51,6 +51,7 @@ from bsd_model import (
     packet,
     ticks_close,
 )
+from bsd_protocol import MSG_CMD_Q_OVERFLOW
 from runner import hdl_params
 from suite import Suite
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
@@ -70,7 +71,6 @@ P = Params.from_env()
 BAUD = int(hdl_params().get("BAUD", 9600))
 DEPTH = int(hdl_params().get("FIFO_DEPTH", 8))
 A = P.module_addr
-MSG_CMD_Q_OVERFLOW = 12
 DIV = (P.clk_hz + BAUD // 2) // BAUD  # clocks per bit, as the RTL rounds it
 PERIOD_PS = round(1e12 / P.clk_hz)
 BIT_PS = DIV * PERIOD_PS
@@ -250,7 +250,7 @@ def overflow_msg() -> bytes:
 
 @SUITE.test()
 async def test_worked_examples(dut) -> None:
-    """PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
+    """docs/PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""
     pins = 0b10001  # pin 0 reads 1; pin 4 high so its edge timer (target 0) waits for a fall
     host, m, strobes, rng = await setup(dut, pins)

@@ -9,7 +9,7 @@ Inputs are driven on the falling edge; s_axis_tready is read in ReadOnly() right
 after that (the value the next rising edge uses), pkt_* in ReadOnly() after the
 rising edge. A byte moves at a rising edge with tvalid and tready both 1.
 
-Every step() compares tready and pkt_* with FramingModel (PROTOCOL.md 2 and
+Every step() compares tready and pkt_* with FramingModel (docs/PROTOCOL.md 2 and
 DESIGN.md decisions 2 and 10), written from the contract:
 - address A: the packet goes to the executor (KIND_CMD with N and d0..d2) when its
   last byte arrives; N = 0 to A: nothing; N > 8 to A: KIND_SERIAL right after the
@@ -35,14 +35,14 @@ import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
+from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD, KIND_PROBE,
+                          KIND_SERIAL, MAX_N)
 from clocked_tb import ClockedTB
 from runner import hdl_params
 from seeding import make_rng
 from suite import Suite
 
 PERIOD_NS = 10
-ADDR_RESYNC = 0xAD
-KIND_CMD, KIND_PROBE, KIND_SERIAL = 0, 1, 2
 
 BUILDS = {
     f"addr{a}-to{t}us": {"MODULE_ADDR": a, "RX_TIMEOUT_US": t}
@@ -52,8 +52,8 @@ TIMED = [b for b, p in BUILDS.items() if p["RX_TIMEOUT_US"]]
 UNTIMED = [b for b, p in BUILDS.items() if not p["RX_TIMEOUT_US"]]
 SUITE = Suite(__file__, "bsd_parser", BUILDS)
 
-MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", 2))
-RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", 25_600))
+MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", DEFAULT_MODULE_ADDR))
+RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", DEFAULT_RX_TIMEOUT_US))
 
 
 def timeout_ticks(us: int) -> int:
@@ -102,7 +102,7 @@ class FramingModel:
             self.pkt_addr, self.state = tdata, "LEN"
         elif self.state == "LEN":
             self.n, self.data = tdata, []
-            if tdata > 8:
+            if tdata > MAX_N:
                 self.state = "ADDR"
                 if own:
                     self.state, self.pending = "PEND", (KIND_SERIAL, None, [])
@@ -482,7 +482,7 @@ async def test_random_stream_vs_model(dut):
             addr = rng.choice([MODULE_ADDR] * 6 + [ADDR_RESYNC] * 3 + OTHER_ADDRS)
             n = rng.choice([0, 1, 2, 3, 4, 5, 8, 9, 200])
             body = [rng.choice([MODULE_ADDR, ADDR_RESYNC, 0, rng.randrange(256)])
-                    for _ in range(min(n, 8))]  # fmt: skip
+                    for _ in range(min(n, MAX_N))]  # fmt: skip
             if rng.random() < 0.15:  # truncated packet
                 body = body[: rng.randrange(len(body) + 1)]
             out += [addr, n] + body

@@ -23,52 +23,53 @@ from typing import Iterable, Mapping, Sequence
 
 from runner import hdl_params
 
-# --- protocol constants (PROTOCOL.md §2, §3) -------------------------------------------
+# --- protocol constants (PROTOCOL.md §2, §3): generated from tools/protocol.toml ----------
 
-CMD_HB = 0
-CMD_DEV_VAL = 4
-CMD_DIG_CFG = 26
-CMD_DIG_IO = 27
-CMD_DIG_RST = 28
-CMD_PTIME_RD = 29
-CMD_MSG = 0x80
+# Re-exported: the tests import them from here.
+from bsd_protocol import (
+    CMD_DEV_VAL,
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_DIG_RST,
+    CMD_HB,
+    CMD_MAX_N,
+    CMD_MSG,
+    CMD_PTIME_RD,
+    DEFAULTS,
+    DEVCODE_HOST,
+    DEVCODE_PIN,
+    DEVCODE_RFLX,
+    DIGCFG_ENA,
+    DIGCFG_FIXED,
+    DIGCFG_IODIR,
+    DIGCFG_RESET,
+    DIGCFG_STORED,
+    DIGCFG_TMODE,
+    DIGCFG_TRG,
+    DIGCFG_TSTATE,
+    MSG_CMD_INDEX_ERR,
+    MSG_CMD_INVALID,
+    MSG_CMD_TOO_LONG,
+    MSG_CMD_TOO_SHORT,
+    MSG_CONFIG_ERR,
+    MSG_SERIAL_ERROR,
+    MSG_STATE_POWER_RESET,
+    MSG_TMR_CONFLICT,
+    TICK_HZ,
+    TIMER_MAX_TICKS,
+)
+from bsd_protocol import ADDR_RESYNC as RESYNC_ADDR
+from bsd_protocol import HB_ANSWER_OFFSET as HB_ANSWER  # the host answers type t with t + HB_ANSWER
+from bsd_protocol import HB_DOWN, HB_UNIT_TICKS, HB_UP
+from bsd_protocol import MAX_N as MAX_DATA
+from bsd_protocol import MSG_STATE_POWER_RESET as MSG_POWER_RESET
 
-MSG_POWER_RESET = 4
-MSG_CMD_INVALID = 8
-MSG_CMD_TOO_LONG = 9
-MSG_CMD_INDEX_ERR = 10
-MSG_TMR_CONFLICT = 15
-MSG_CMD_TOO_SHORT = 27
-MSG_SERIAL_ERROR = 28
-MSG_CONFIG_ERR = 29
+# Longest form of each host command the model executes, counting the command byte (longer is
+# cmdTooLong). cmdHB is consumed apart; cmdDEBUG is not implemented yet.
+CMD_LONGEST = {c: CMD_MAX_N[c] for c in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)}
 
-RESYNC_ADDR = 0xAD
-MAX_DATA = 8
-
-# Longest form of each host command, counting the command byte (longer is cmdTooLong).
-CMD_LONGEST = {CMD_DIG_CFG: 3, CMD_DIG_IO: 3, CMD_DIG_RST: 2, CMD_PTIME_RD: 2}
-
-DIGCFG_FIXED = 0x80
-DIGCFG_TMODE = 0x10
-DIGCFG_TSTATE = 0x08
-DIGCFG_TRG = 0x04
-DIGCFG_ENA = 0x02
-DIGCFG_IODIR = 0x01
-DIGCFG_STORED = 0x1F  # bits 4:0: the only writable bits
-DIGCFG_RESET = DIGCFG_IODIR
-
-DEVCODE_HOST = 0x80
-DEVCODE_RFLX = 0x40
-DEVCODE_PIN = 0x3F
-
-HB_UP = 0
-HB_DOWN = 1
-HB_ANSWER = 2  # host answers a heartbeat of type t with type t + HB_ANSWER
-HB_UNIT_S = 0.0256
-
-TICK_HZ = 625_000
 TICK_S = 1.0 / TICK_HZ
-TIMER_MAX_TICKS = 65_535
+HB_UNIT_S = HB_UNIT_TICKS / TICK_HZ
 TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S
 
 
@@ -79,18 +80,18 @@ TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S
 class Params:
     """The core's Verilog parameters (PROTOCOL.md §1), GP 1.0 defaults."""
 
-    clk_hz: int = 48_000_000
-    module_addr: int = 2
-    num_pins: int = 5
-    timer_mask: int = 0b11110
-    fixed_mask: int = 0
-    fixed_cfg: int = 0
-    pin_id_base: int = 5
-    timer_id_base: int = 10
-    trans_id_base: int = 15
-    poll_hz: int = 10_000
-    rx_timeout_us: int = 25_600
-    hb_rate: int = 0
+    clk_hz: int = DEFAULTS["CLK_HZ"]
+    module_addr: int = DEFAULTS["MODULE_ADDR"]
+    num_pins: int = DEFAULTS["NUM_PINS"]
+    timer_mask: int = DEFAULTS["TIMER_MASK"]
+    fixed_mask: int = DEFAULTS["FIXED_MASK"]
+    fixed_cfg: int = DEFAULTS["FIXED_CFG"]
+    pin_id_base: int = DEFAULTS["PIN_ID_BASE"]
+    timer_id_base: int = DEFAULTS["TIMER_ID_BASE"]
+    trans_id_base: int = DEFAULTS["TRANS_ID_BASE"]
+    poll_hz: int = DEFAULTS["POLL_HZ"]
+    rx_timeout_us: int = DEFAULTS["RX_TIMEOUT_US"]
+    hb_rate: int = DEFAULTS["HB_RATE"]
 
     def __post_init__(self) -> None:
         if self.clk_hz < 2_000_000:

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-BIN = ROOT / "sim" / "build" / "clk48000000" / "session"
+MAKE_VARS = ["CLK_HZ=48000000"]  # and the other GP 1.0 defaults
 
 
 @pytest.fixture(scope="session")
@@ -21,8 +21,10 @@ def session_bin() -> Path:
     lock_path.parent.mkdir(parents=True, exist_ok=True)
     with open(lock_path, "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        subprocess.run(["make", "-s", "sim-build", "CLK_HZ=48000000"], cwd=ROOT, check=True)
-    return BIN
+        subprocess.run(["make", "-s", "sim-build", *MAKE_VARS], cwd=ROOT, check=True)
+    path = subprocess.run(["make", "-s", "--no-print-directory", "sim-path", *MAKE_VARS], cwd=ROOT,
+                          check=True, capture_output=True, text=True).stdout.strip()
+    return ROOT / path
 
 
 def play(session_bin: Path, script: Path) -> subprocess.CompletedProcess[str]:
