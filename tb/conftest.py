@@ -39,3 +39,19 @@ def pytest_sessionfinish(session) -> None:
     if not hasattr(session.config, "workerinput"):  # the controller, not an xdist worker
         workers = getattr(session.config.option, "numprocesses", 0) or 1
         runner.record_timing("session", seconds=time.time() - _START, workers=workers)
+
+
+def pytest_collection_modifyitems(config, items) -> None:
+    """Longest first, so that pytest-xdist does not end the run waiting on one long test:
+    ordered by the durations this checkout's last run recorded; with none (a fresh clone),
+    the top-level and serial-link files, which hold the long simulations, go first. Only
+    the order changes, never the selection."""
+    known = runner.item_durations()
+
+    def weight(item) -> tuple[float, int]:
+        if known:
+            return (-known.get(item.nodeid, 0.0), 0)
+        path = item.nodeid.split("::", 1)[0]
+        return (0.0, 0 if path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift")) else 1)
+
+    items.sort(key=weight)  # stable: ties keep their collection order

@@ -317,3 +317,15 @@ def builds_since(t: float) -> dict[str, tuple[int, float]]:
             out[rec["sim"]] = (n + (key not in seen), s + rec["seconds"])
             seen.add(key)
     return out
+
+
+def item_durations() -> dict[str, float]:
+    """{pytest node id: seconds of its call} from the newest record of each test."""
+    newest: dict[str, tuple[float, float]] = {}
+    for path in TIMING.glob("*.jsonl") if TIMING.is_dir() else ():
+        for line in path.read_text().splitlines():
+            rec = json.loads(line)
+            if rec["kind"] == "item" and rec["when"] == "call":
+                if rec["t_end"] > newest.get(rec["nodeid"], (0.0, 0.0))[0]:
+                    newest[rec["nodeid"]] = (rec["t_end"], rec["seconds"])
+    return {node: secs for node, (_, secs) in newest.items()}
