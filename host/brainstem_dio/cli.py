@@ -374,8 +374,10 @@ def _console_line(m: Module, line: str, printer: Printer) -> bool:
             printer.plain("= ok")
         else:
             printer.plain(f"? unknown command {words[0]!r} (help lists them)")
-    except (ValueError, IndexError, argparse.ArgumentTypeError) as exc:
-        printer.plain(f"? {exc or 'missing argument'} (help lists the commands)")
+    except IndexError:
+        printer.plain("? missing argument (help lists the commands)")
+    except (ValueError, argparse.ArgumentTypeError) as exc:
+        printer.plain(f"? {exc} (help lists the commands)")
     except ModuleError as exc:
         printer.plain(f"! {exc.name} ({exc.code})")
     except BrainStemError as exc:

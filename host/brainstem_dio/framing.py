@@ -87,7 +87,7 @@ class FramingError:
 @dataclass(frozen=True)
 class Resynced:
     """The probe replies `A 00 A 00` arrived; normal framing goes on after them.
-    `discarded` counts the bytes thrown away since the framing error."""
+    `discarded` counts the bytes thrown away after the framing error's own `dropped`."""
 
     time: float
     discarded: int
@@ -184,7 +184,7 @@ class FrameParser:
         dropped = bytes(self._buf) + bad
         self._buf = bytearray()
         self._window = bytearray()
-        self._discarded = len(dropped)
+        self._discarded = 0
         self.state = State.FLUSH
         return FramingError(reason, dropped, now)
 

@@ -417,12 +417,15 @@ class Link:
             return
         self._closed = True
         self._stop.set()
-        if threading.current_thread() is not self._reader:
-            self._reader.join(timeout=2.0)
+        me = threading.current_thread()
+        if me is not self._reader:
+            self._reader.join(timeout=0.5)  # a read returns within poll_interval
         try:
-            self._ser.close()
+            self._ser.close()  # also ends a read that does not honour the timeout
         except Exception:  # noqa: BLE001
             pass
+        if me is not self._reader:
+            self._reader.join(timeout=1.0)
         self._fail_all(LinkError("the link was closed"))
         self._emit(LinkEvent("closed", time.monotonic()))
 
