@@ -343,11 +343,11 @@ def _console_line(m: Module, line: str, printer: Printer) -> bool:
         printer.plain(CONSOLE_HELP)
         return True
     try:
+        code = P.command_code(verb)
         if words[0][0].isdigit():
             _console_packet(m, [int(w, 0) for w in words], printer)
-        elif P.command_code(verb) is not None:
-            code = P.command_code(verb)
-            _console_packet(m, [m.addr, code] + [int(w, 0) for w in rest], printer)  # type: ignore[list-item]
+        elif code is not None:
+            _console_packet(m, [m.addr, code] + [int(w, 0) for w in rest], printer)
         elif verb == "query":
             cfg = m.query(int(rest[0], 0))
             printer.plain(f"= 0x{int(cfg):02X} {cfg}")

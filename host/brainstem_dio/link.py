@@ -29,6 +29,7 @@ is what would deliver the answer).
 from __future__ import annotations
 
 import collections
+import functools
 import itertools
 import logging
 import os
@@ -184,7 +185,7 @@ class Transaction:
         self._finished = True
         callbacks, self._callbacks = self._callbacks, []
         actions: list[Action] = [self._event.set]
-        actions += [lambda fn=fn: fn(self) for fn in callbacks]
+        actions += [functools.partial(fn, self) for fn in callbacks]
         return actions
 
 

@@ -402,3 +402,27 @@ def test_listener_sees_both_directions_and_marks_the_sync_echo(rig):
     assert tx[1][1] is True and tx[1][0].startswith("02:17,B5,")
     rx = [e for e in events if e.kind == "rx"]
     assert rx[0].internal and rx[0].packet.data[:2] == bytes([23, 0xB5])
+
+
+def test_input_waiting_at_open_is_flushed():
+    host, dev = serial_pair()
+    fake = FakeModule(dev).start()  # its power-up message waits on the line
+    assert wait_for(lambda: host.in_waiting == 4)
+    try:
+        with brainstem_dio.open(host) as m:
+            assert m.query(1) == brainstem_dio.DigCfg()
+            assert m.drain() == []
+    finally:
+        fake.stop()
+
+
+def test_writes_pause_after_cmd_q_overflow(rig):
+    # The module lost bytes: let its parser drop any partial packet (RX_TIMEOUT, 25.6 ms)
+    # before the next command goes out.
+    m, fake = rig()
+    fake.inject(bytes([2, 2, 0x80, P.MSG_CMD_Q_OVERFLOW]))
+    m.receive(1.0)
+    assert m.receive(1.0) == Packet.of(2, 0x80, 12)
+    start = time.monotonic()
+    m.query(1)
+    assert time.monotonic() - start >= P.DEFAULT_RX_TIMEOUT_US * 1e-6
