@@ -309,7 +309,9 @@ class Link:
         self._mailbox = _Mailbox(unsolicited_maxlen)
         self._listeners: list[Callable[[LinkEvent], None]] = []
         self._lock = threading.RLock()  # calls in flight, timer waiters
-        self._send_lock = threading.Lock()  # taken before _lock: registration + write
+        # Taken before _lock: registration + write. Re-entrant, so that a listener (called
+        # after a write, in the writing thread) may itself send.
+        self._send_lock = threading.RLock()
         self._pending: list[Transaction] = []
         self._timers: dict[tuple[int, int], Deque[TimerWaiter]] = {}
         self._needs_sync: set[int] = set()

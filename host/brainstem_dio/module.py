@@ -454,13 +454,24 @@ class Module:
         return reply
 
     def _no_reply(self, data: bytes, label: str, wait: bool, timeout: Optional[float]) -> Optional[Pending]:
-        t = self._submit(data, None, label)
         if wait:
-            self._finish(t, timeout)
+            self._finish(self._submit(data, None, label), timeout)
             return None
+        box: list[Pending] = []
+
+        def settled(t: Transaction) -> None:
+            # A command that succeeded needs no reporting: forget it (an error stays for
+            # result() or the next sync()).
+            if t.exc is None and t.error is None and box:
+                self._forget(box[0])
+
+        t = self._submit(data, None, label, on_done=settled)
         pend = Pending(self, t)
         with self._lock:
             self._unchecked.append(pend)
+            box.append(pend)
+        if t.done():
+            settled(t)
         return pend
 
     def _forget(self, pend: Pending) -> None:

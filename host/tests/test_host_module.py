@@ -210,6 +210,17 @@ def test_pipelined_commands_each_get_their_own_error(rig):
     m.sync()  # everything was collected
 
 
+def test_many_pipelined_commands(rig):
+    m, fake = rig()
+    m.configure(1, output=True)
+    pendings = [m.write(1, i & 1, wait=False) for i in range(200)]
+    pendings[-1].result()
+    assert all(p.done() for p in pendings)
+    assert wait_for(lambda: m._unchecked == [])  # successes are not kept
+    assert fake.out_latch[1] == 1
+    m.sync()
+
+
 def test_sync_raises_an_error_nobody_collected(rig):
     m, fake = rig()
     m.write(0, 1, wait=False)
