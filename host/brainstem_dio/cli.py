@@ -168,16 +168,20 @@ class Printer:
         self.verbose = verbose
         self.t0 = time.monotonic()
         self.lock = threading.Lock()
+        self.prompt: Optional[str] = None  # set while an interactive prompt is showing
+        self.line_buffer: Callable[[], str] = lambda: ""
 
     def line(self, text: str, when: Optional[float] = None) -> None:
         stamp = ((when if when is not None else time.monotonic()) - self.t0) * 1e3
-        with self.lock:
-            self.out.write(f"[{stamp:12.3f} ms] {text}\n")
-            self.out.flush()
+        self.plain(f"[{stamp:12.3f} ms] {text}")
 
     def plain(self, text: str) -> None:
         with self.lock:
-            self.out.write(text + "\n")
+            if self.prompt is not None:
+                # A packet arrived while the user types: print it above the prompt line.
+                self.out.write("\r\x1b[K" + text + "\n" + self.prompt + self.line_buffer())
+            else:
+                self.out.write(text + "\n")
             self.out.flush()
 
     def event(self, ev: LinkEvent) -> None:
@@ -433,12 +437,23 @@ def cmd_console(m: Module, args: argparse.Namespace, out: TextIO, stdin: TextIO)
         printer.plain(f"warning: {exc}")
     if interactive:
         try:
-            import readline  # noqa: F401 - line editing for input()
+            import readline  # line editing for input()
+
+            printer.line_buffer = readline.get_line_buffer
         except ImportError:
             pass
     while True:
         try:
-            line = input("> ") if interactive else stdin.readline()
+            if interactive:
+                with printer.lock:
+                    printer.prompt = "> "
+                try:
+                    line = input("> ")
+                finally:
+                    with printer.lock:
+                        printer.prompt = None
+            else:
+                line = stdin.readline()
         except EOFError:
             break
         if not interactive:
