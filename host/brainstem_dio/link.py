@@ -39,7 +39,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Deque, Iterable, Optional, Protocol
 
 from . import protocol as P
-from .errors import LinkError, ModuleReset, PortError, ProtocolError, ResyncError, Timeout
+from .errors import LinkError, ModuleReset, PortError, ProtocolError, ResyncError, Timeout, module_error
 from .framing import FrameParser, FramingError, Packet, Resynced, ResyncTimeout
 
 if TYPE_CHECKING:
@@ -510,9 +510,11 @@ class Link:
                 return
             if t.exc is None:  # an error message: nothing started
                 self._drop_timer(w)
+                assert t.error is not None
+                w.exc = module_error(t.error, t.command)
             else:
                 w.state = "ghost"
-            w.exc = t.exc
+                w.exc = t.exc
             actions.append(w.event.set)
         for act in actions:
             act()

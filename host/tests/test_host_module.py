@@ -173,6 +173,7 @@ def test_tmr_conflict_from_the_second_start(rig):
         m.start_timer(3)
     assert info.value.command == bytes([29, 0x83])
     assert first.result().ticks == 250  # the running measurement went on
+    assert m.link._timers == {}  # the refused start left no waiter behind
 
 
 def test_too_long_still_executes_the_command(rig):
