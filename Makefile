@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test lint sim sim-build sim-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-host lint sim sim-build sim-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -56,10 +56,12 @@ WAVE    := sim/build/session.$(if $(HAVE_LZ4),fst,vcd)
 
 all: lint test
 
-$(STAMP): requirements.txt
+# The venv: the pinned requirements and the host library (host/, editable).
+$(STAMP): requirements.txt host/pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
 	$(VPY) -m pip install -q -r requirements.txt
+	$(VPY) -m pip install -q -e host
 	touch $@
 
 venv: $(STAMP)
@@ -125,8 +127,13 @@ bitstream: $(SYNTH_STAMP)
 # make test: lint first (CI runs exactly this), then the whole regression; pytest's summary
 # ends with the slowest tests, the measured figures and the build count.
 test: lint
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
+
+# The host library's own tests alone (no simulator).
+test-host: $(STAMP)
+	$(VPY) -m pytest -q -rfE host/tests
 
 clean:
 	rm -rf sim_build sim/build synth/build .pytest_cache
-	find tb -name __pycache__ -prune -exec rm -rf {} +
+	find tb host -name __pycache__ -prune -exec rm -rf {} +
+	rm -rf host/*.egg-info

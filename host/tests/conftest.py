@@ -1,0 +1,49 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Fixtures of the host library's unit tests: a fake module on an in-memory line."""
+
+from __future__ import annotations
+
+import time
+from typing import Callable, Iterator
+
+import pytest
+
+import brainstem_dio
+from host_fake import FakeModule, serial_pair
+
+
+def wait_for(cond: Callable[[], object], timeout: float = 2.0, step: float = 0.002) -> bool:
+    """Poll `cond` until it is true or `timeout` s pass; returns the last result."""
+    deadline = time.monotonic() + timeout
+    while True:
+        if cond():
+            return True
+        if time.monotonic() >= deadline:
+            return bool(cond())
+        time.sleep(step)
+
+
+@pytest.fixture
+def rig() -> Iterator[Callable[..., tuple[brainstem_dio.Module, FakeModule]]]:
+    """`rig(fake_options..., link options as link_<name>, module options as mod_<name>)`
+    -> (module, fake): a Module on an in-memory line to a started FakeModule. Everything is
+    closed at the end of the test."""
+    made: list[tuple[brainstem_dio.Module, FakeModule]] = []
+
+    def make(**options: object) -> tuple[brainstem_dio.Module, FakeModule]:
+        link_opts = {k[5:]: v for k, v in options.items() if k.startswith("link_")}
+        mod_opts = {k[4:]: v for k, v in options.items() if k.startswith("mod_")}
+        fake_opts = {k: v for k, v in options.items() if not k.startswith(("link_", "mod_"))}
+        host, dev = serial_pair()
+        fake = FakeModule(dev, **fake_opts)  # type: ignore[arg-type]
+        link = brainstem_dio.Link(host, **link_opts)  # type: ignore[arg-type]
+        m = link.module(fake.addr, **mod_opts)
+        m._owns_link = True
+        fake.start()
+        made.append((m, fake))
+        return m, fake
+
+    yield make
+    for m, fake in made:
+        m.close()
+        fake.stop()
