@@ -26,6 +26,7 @@ OUTPUTS: list[tuple[str, str]] = [
     ("sim/bsd_protocol.h", "cpp"),
     ("sim/bsd_protocol.mk", "make"),
     ("tb/lib/bsd_protocol.py", "python"),
+    ("host/brainstem_dio/_protocol_table.py", "python"),
 ]
 
 TABLE = "tools/protocol.toml"
@@ -472,7 +473,7 @@ def render_python(p: Protocol) -> str:
     lines = [
         f"# {SPDX}",
         f"# {GENERATED[0].upper() + GENERATED[1:]}.",
-        '"""Protocol constants of the BrainStem 1.0 packet link (docs/PROTOCOL.md), for the testbench."""',
+        '"""Protocol constants of the BrainStem 1.0 packet link (docs/PROTOCOL.md)."""',
         "",
         "from __future__ import annotations",
     ]

@@ -14,70 +14,19 @@ from __future__ import annotations
 
 from typing import Sequence
 
-# --- constants (PROTOCOL.md §1-§4, docs/fpga.md) ------------------------------------------
-
-# Packets: `address, N, d0 .. d(N-1)`.
-MAX_N = 8  # most data bytes in a packet (d0 counts)
-ADDR_RESYNC = 0xAD  # the host's resync probe `0xAD, 0`, answered `A, 0`
-MSG_N = 2  # a message is `A, MSG_N, CMD_MSG, code`
-
-# Command codes.
-CMD_HB = 0
-CMD_DEV_VAL = 4
-CMD_DEBUG = 23
-CMD_DIG_CFG = 26
-CMD_DIG_IO = 27
-CMD_DIG_RST = 28
-CMD_PTIME_RD = 29
-CMD_MSG = 0x80
-
-# Message codes (`A, 2, 0x80, code`).
-MSG_STATE_POWER_RESET = 4
-MSG_CMD_INVALID = 8
-MSG_CMD_TOO_LONG = 9
-MSG_CMD_INDEX_ERR = 10
-MSG_CMD_Q_OVERFLOW = 12  # sent by the serial wrapper brainstem_dio_uart, not the core
-MSG_TMR_CONFLICT = 15
-MSG_CMD_TOO_SHORT = 27
-MSG_SERIAL_ERROR = 28
-MSG_CONFIG_ERR = 29  # assigned by the contract
-
-# DIGCFG byte: [7] FIXED | [6:5] 0 | [4] TMODE | [3] TSTATE | [2] TRG | [1] ENA | [0] IODIR.
-DIGCFG_FIXED = 0x80
-DIGCFG_TMODE = 0x10
-DIGCFG_TSTATE = 0x08
-DIGCFG_TRG = 0x04
-DIGCFG_ENA = 0x02
-DIGCFG_IODIR = 0x01
-DIGCFG_STORED = 0x1F  # the bits a DIG_CFG set stores
-DIGCFG_RESET = 0x01  # power-up value of a pin that is not fixed
-
-# DEVCODE byte: [7] HOST | [6] RFLX | [5:0] pin.
-DEVCODE_HOST = 0x80
-DEVCODE_RFLX = 0x40
-DEVCODE_PIN = 0x3F
-
-# cmdHB: the core sends `0, HB_UP` / `0, HB_DOWN`, the host answers type + HB_ANSWER_OFFSET.
-HB_UP = 0
-HB_DOWN = 1
-HB_ANSWER_OFFSET = 2
-HB_UNIT_TICKS = 16_000  # the HB_RATE unit, 25.6 ms
-
-# Event timer.
-TICK_HZ = 625_000  # a tick is 1.6 us
-TIMER_MAX_TICKS = 65_535  # a result is 16 bits; the timeout comes after this many ticks
-
-DEV_ID_LIMIT = 64
-
-# The core's parameters as GP 1.0 has them (PROTOCOL.md §1); the host needs the address and
-# the device ID bases to recognise replies.
-DEFAULT_MODULE_ADDR = 2
-DEFAULT_NUM_PINS = 5
-DEFAULT_TIMER_MASK = 0b11110
-DEFAULT_PIN_ID_BASE = 5
-DEFAULT_TIMER_ID_BASE = 10
-DEFAULT_TRANS_ID_BASE = 15
-DEFAULT_RX_TIMEOUT_US = 25_600
+# --- constants ------------------------------------------------------------------------------
+# Generated from the project's one protocol table (tools/protocol.toml); see that file.
+from ._protocol_table import (  # noqa: E402,F401  (re-exported: the library's constants)
+    ADDR_RESYNC, CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_MSG,
+    CMD_MAX_N, CMD_MIN_N, CMD_PTIME_RD, COMMANDS, DEFAULT_MODULE_ADDR, DEFAULT_NUM_PINS,
+    DEFAULT_PIN_ID_BASE, DEFAULT_RX_TIMEOUT_US, DEFAULT_TIMER_ID_BASE, DEFAULT_TIMER_MASK,
+    DEFAULT_TRANS_ID_BASE, DEV_ID_LIMIT, DEVCODE_HOST, DEVCODE_PIN, DEVCODE_RFLX, DIGCFG_ENA,
+    DIGCFG_FIXED, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED, DIGCFG_TMODE, DIGCFG_TRG,
+    DIGCFG_TSTATE, HB_ANSWER_OFFSET, HB_DOWN, HB_UNIT_TICKS, HB_UP, MAX_N, MESSAGE_TEXT,
+    MESSAGES, MSG_CMD_INDEX_ERR, MSG_CMD_INVALID, MSG_CMD_Q_OVERFLOW, MSG_CMD_TOO_LONG,
+    MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR, MSG_N, MSG_SERIAL_ERROR, MSG_STATE_POWER_RESET,
+    MSG_TMR_CONFLICT, TICK_HZ, TIMER_MAX_TICKS,
+)
 
 # --- derived values --------------------------------------------------------------------------
 
@@ -85,46 +34,10 @@ TICK_S = 1.0 / TICK_HZ
 TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S  # 104.856 ms
 HB_UNIT_S = HB_UNIT_TICKS * TICK_S  # 25.6 ms
 
-# Longest form of each host command, counting the command byte; longer is cmdTooLong.
-CMD_MAX_N = {CMD_DEBUG: 8, CMD_DIG_CFG: 3, CMD_DIG_IO: 3, CMD_DIG_RST: 2, CMD_PTIME_RD: 2}
-# Shortest form; shorter is cmdTooShort.
-CMD_MIN_N = {CMD_DEBUG: 1, CMD_DIG_CFG: 2, CMD_DIG_IO: 2, CMD_DIG_RST: 2, CMD_PTIME_RD: 2}
 
-COMMAND_NAMES = {
-    CMD_HB: "cmdHB",
-    CMD_DEV_VAL: "cmdDEV_VAL",
-    CMD_DEBUG: "cmdDEBUG",
-    CMD_DIG_CFG: "cmdDIG_CFG",
-    CMD_DIG_IO: "cmdDIG_IO",
-    CMD_DIG_RST: "cmdDIG_RST",
-    CMD_PTIME_RD: "cmdPTIME_RD",
-    CMD_MSG: "cmdMSG",
-}
+COMMAND_NAMES = COMMANDS
 
-MESSAGE_NAMES = {
-    MSG_STATE_POWER_RESET: "statePowerReset",
-    MSG_CMD_INVALID: "cmdInvalid",
-    MSG_CMD_TOO_LONG: "cmdTooLong",
-    MSG_CMD_INDEX_ERR: "cmdIndexErr",
-    MSG_CMD_Q_OVERFLOW: "cmdQOverflow",
-    MSG_TMR_CONFLICT: "tmrConflict",
-    MSG_CMD_TOO_SHORT: "cmdTooShort",
-    MSG_SERIAL_ERROR: "serialError",
-    MSG_CONFIG_ERR: "configErr",
-}
-
-# The session transcript's wording of each message (sim/session.cpp).
-MESSAGE_TEXT = {
-    MSG_STATE_POWER_RESET: "power reset",
-    MSG_CMD_INVALID: "cmd invalid",
-    MSG_CMD_TOO_LONG: "cmd too long",
-    MSG_CMD_INDEX_ERR: "cmd index error",
-    MSG_CMD_Q_OVERFLOW: "queue overflow",
-    MSG_TMR_CONFLICT: "timer conflict",
-    MSG_CMD_TOO_SHORT: "cmd too short",
-    MSG_SERIAL_ERROR: "serial error",
-    MSG_CONFIG_ERR: "config error",
-}
+MESSAGE_NAMES = MESSAGES
 
 # Messages a command can cause (PROTOCOL.md §2). The others arrive on their own.
 COMMAND_MESSAGES = frozenset(

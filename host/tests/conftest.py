@@ -3,24 +3,12 @@
 
 from __future__ import annotations
 
-import time
 from typing import Callable, Iterator
 
 import pytest
 
 import brainstem_dio
 from host_fake import FakeModule, serial_pair
-
-
-def wait_for(cond: Callable[[], object], timeout: float = 2.0, step: float = 0.002) -> bool:
-    """Poll `cond` until it is true or `timeout` s pass; returns the last result."""
-    deadline = time.monotonic() + timeout
-    while True:
-        if cond():
-            return True
-        if time.monotonic() >= deadline:
-            return bool(cond())
-        time.sleep(step)
 
 
 @pytest.fixture

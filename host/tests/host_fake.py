@@ -426,3 +426,14 @@ class FdEnd:
         if self.is_open:
             self.is_open = False
             os.close(self.fd)
+
+
+def wait_for(cond: Callable[[], object], timeout: float = 2.0, step: float = 0.002) -> bool:
+    """Poll `cond` until it is true or `timeout` s pass; returns the last result."""
+    deadline = time.monotonic() + timeout
+    while True:
+        if cond():
+            return True
+        if time.monotonic() >= deadline:
+            return bool(cond())
+        time.sleep(step)

@@ -14,7 +14,7 @@ import pytest
 import brainstem_dio
 from brainstem_dio import Packet
 from brainstem_dio import protocol as P
-from conftest import wait_for
+from host_fake import wait_for
 from host_fake import FakeModule, FakeServer, FdEnd, serial_pair
 
 BAD_BYTES = {

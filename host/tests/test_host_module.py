@@ -12,7 +12,7 @@ import pytest
 import brainstem_dio
 from brainstem_dio import DigCfg, Packet
 from brainstem_dio import protocol as P
-from conftest import wait_for
+from host_fake import wait_for
 
 
 def sent(fake, cmd: int) -> list[bytes]:
