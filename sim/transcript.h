@@ -166,7 +166,7 @@ inline std::string decode_host(const std::vector<uint8_t>& p) {
             if (args >= 1 && p[3] == bsd::HB_DOWN + bsd::HB_ANSWER_OFFSET) return "heartbeat DOWN answered";
             return "heartbeat";
         case bsd::CMD_DEBUG: return "debug echo";
-        default: return "";
+        default: std::snprintf(b, sizeof b, "unknown command 0x%02X", cmd); return b;
     }
 }
 
