@@ -107,6 +107,7 @@ sim: $(SIM_BIN)
 # brainstem_dio_uart (the board's RTL) behind a pseudo-terminal, in step with the wall clock
 # (sim/virtual.cpp). It prints `port: /dev/pts/N` and keeps the symlink sim/build/virtual/port
 # to it while it runs; stdin takes pin/wait/reset/noise/quit lines, stdout is the transcript.
+# The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
 # CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
 # sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
 # simulates only about 4-5 M clocks of this top per CPU second (sim/virtual_bench.py), so

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """The virtual module (sim/virtual.cpp, `make virtual`): brainstem_dio_uart behind a pty.
 
-A host here is plain os.open/termios on the pty path. One virtual module per pytest worker
-serves the tests that only talk to it (each starts with `reset` on stdin, which replays
+A host here is plain os.open/termios on the pty path. One virtual module (per worker, while
+this file's tests run) serves the tests that only talk to it (each starts with `reset` on stdin, which replays
 power-up, so it does not depend on what an earlier test left); the tests of start-up, exit and
 errors start their own. The build runs at 2 MHz / 115200 baud with the 256 ms heartbeat, so it
 keeps real time on a loaded machine; every wait has a generous wall-clock limit, and nothing
@@ -11,6 +11,7 @@ checks that the simulation is fast, only that it is never ahead of the wall cloc
 
 from __future__ import annotations
 
+import fcntl
 import os
 import re
 import resource
@@ -20,7 +21,6 @@ import subprocess
 import termios
 import threading
 import time
-import fcntl
 from pathlib import Path
 from typing import Callable, Iterator
 
@@ -179,7 +179,9 @@ class Host:
         os.close(self.fd)
 
 
-@pytest.fixture(scope="session")
+# Module scope, not session: a running virtual module keeps half a core busy simulating
+# real time, which the rest of `make test` should not pay for.
+@pytest.fixture(scope="module")
 def shared(virtual_bin: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Virtual]:
     v = Virtual(virtual_bin, tmp_path_factory.mktemp("virtual") / "port")
     yield v
@@ -259,6 +261,19 @@ def test_worked_examples_round_trip(shared: Virtual) -> None:
         out.wait(r"> 04:03,0A,0D,11,13,7F +not for module 2: ignored$", mark)
         out.wait(r"> 02:63 +unknown command 0x63$", mark)
         out.wait(r"< 02:1A,03,0A +pin 3 config 0x0A: output, latch on 1->0, edge timer to high$", mark)
+    finally:
+        host.close()
+
+
+def test_host_framing_in_the_transcript(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        host.write(A, 3, 0x1A)  # left incomplete: the core drops it after RX_TIMEOUT_US
+        shared.out.wait(r"> 02:1A +incomplete: dropped after 25.6 ms$", mark)
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+        assert host.reply(A, 9) == bytes([A, 2, 0x80, 0x1C])  # N > 8: serialError
+        shared.out.wait(r"> 02 N=9 +N > 8: framing error, both bytes dropped$", mark)
+        shared.out.wait(r"< 2:serial error +\(02:80,1C\)$", mark)
     finally:
         host.close()
 
@@ -351,6 +366,24 @@ def test_pin_lines_drive_the_pads(shared: Virtual) -> None:
     finally:
         shared.send("pin 0 high", "pin 2 high", "pin 4 high")
         host.close()
+
+
+def test_waves_record_the_session(fresh, tmp_path: Path) -> None:
+    wave = tmp_path / "session.vcd"
+    v = fresh("--wave", str(wave))
+    host, _ = powered_up(v)
+    try:
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+    finally:
+        host.close()
+    v.send("quit")
+    assert v.wait_exit() == 0
+    assert f"waveform {wave}" in v.out.lines[-1]
+    data = wave.read_bytes()
+    if data.startswith(b"$"):  # a VCD (an FST when lz4's header is installed)
+        assert b"$enddefinitions" in data and b" tx " in data and b"\n#" in data
+    else:
+        assert len(data) > 1000
 
 
 def test_wait_follows_the_wall_clock(fresh) -> None:
