@@ -15,8 +15,9 @@
 // no process has the slave open and with EAGAIN (or returns data) while one does. Bytes the
 // core sends while no host has the port open are dropped (the transcript marks them lost), as
 // on a real serial line; when the host closes, what it had not read is flushed (TCOFLUSH).
-// Bytes the host writes while its side is full-up are kept by the kernel; a host that stops
-// reading loses what does not fit in the pty's buffer.
+// The host's bytes are read as they arrive and queued for the line, so a host may write
+// faster than BAUD (they leave at BAUD, as from its own UART's buffer). A host that stops
+// reading loses the core's bytes that no longer fit in the pty's buffer (stderr says so).
 //
 // Pacing. The model runs in chunks of at most 1 ms of simulated time, never past the wall
 // clock (steady_clock) since start; when ahead it sleeps in ppoll on the pty and stdin.
