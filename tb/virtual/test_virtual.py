@@ -1,0 +1,501 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The virtual module (sim/virtual.cpp, `make virtual`): brainstem_dio_uart behind a pty.
+
+A host here is plain os.open/termios on the pty path. One virtual module (per worker, while
+this file's tests run) serves the tests that only talk to it (each starts with `reset` on stdin, which replays
+power-up, so it does not depend on what an earlier test left); the tests of start-up, exit and
+errors start their own. The build runs at 2 MHz / 115200 baud with the 256 ms heartbeat, so it
+keeps real time on a loaded machine; every wait has a generous wall-clock limit, and nothing
+checks that the simulation is fast, only that it is never ahead of the wall clock.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import re
+import resource
+import select
+import signal
+import subprocess
+import termios
+import threading
+import time
+from pathlib import Path
+from typing import Callable, Iterator
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]  # and the other GP 1.0 defaults
+A = 2  # module address
+TIMEOUT = 30.0  # wall seconds for anything to happen, however loaded the machine
+HB = (A, 2, 0)  # a heartbeat packet starts so
+
+
+@pytest.fixture(scope="session")
+def virtual_bin() -> Path:
+    # One build, whichever xdist worker gets here first (the session runner's lock: the two
+    # builds need not run at once on a small machine).
+    lock_path = ROOT / "sim" / "build" / ".lock"
+    lock_path.parent.mkdir(parents=True, exist_ok=True)
+    with open(lock_path, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        subprocess.run(["make", "-s", "virtual-build", *MAKE_VARS], cwd=ROOT, check=True)
+    path = subprocess.run(["make", "-s", "--no-print-directory", "virtual-path", *MAKE_VARS], cwd=ROOT,
+                          check=True, capture_output=True, text=True).stdout.strip()
+    return ROOT / path
+
+
+class Lines:
+    """The lines of one of the process's output streams, collected by a thread."""
+
+    def __init__(self, stream) -> None:
+        self.lines: list[str] = []
+        self.cond = threading.Condition()
+        self.closed = False
+        threading.Thread(target=self._read, args=(stream,), daemon=True).start()
+
+    def _read(self, stream) -> None:
+        for raw in stream:
+            with self.cond:
+                self.lines.append(raw.decode(errors="replace").rstrip("\n"))
+                self.cond.notify_all()
+        with self.cond:
+            self.closed = True
+            self.cond.notify_all()
+
+    def wait(self, pattern: str, start: int = 0, timeout: float = TIMEOUT) -> int:
+        """Index of the first line from `start` on that matches the regex `pattern`."""
+        rx = re.compile(pattern)
+        deadline = time.monotonic() + timeout
+        with self.cond:
+            i = start
+            while True:
+                while i < len(self.lines):
+                    if rx.search(self.lines[i]):
+                        return i
+                    i += 1
+                left = deadline - time.monotonic()
+                if left <= 0 or self.closed:
+                    raise AssertionError(f"no line matching {pattern!r}; got:\n" + "\n".join(self.lines[start:]))
+                self.cond.wait(left)
+
+    def __len__(self) -> int:
+        with self.cond:
+            return len(self.lines)
+
+    def text(self) -> str:
+        with self.cond:
+            return "\n".join(self.lines)
+
+
+class Virtual:
+    """A running virtual module: its stdin, its transcript (stdout), its stderr, its pty."""
+
+    def __init__(self, binary: Path, link: Path, *args: str, **popen) -> None:
+        self.link = link
+        self.started = time.monotonic()
+        self.proc = subprocess.Popen([str(binary), "--link", str(link), *args], cwd=ROOT, stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, **popen)
+        self.out = Lines(self.proc.stdout)
+        self.err = Lines(self.proc.stderr)
+        line = self.out.lines[self.out.wait(r"^port: ")]
+        self.port = line.split(": ", 1)[1]
+
+    def send(self, *lines: str) -> None:
+        assert self.proc.stdin is not None
+        self.proc.stdin.write("".join(f"{line}\n" for line in lines).encode())
+        self.proc.stdin.flush()
+
+    def open(self) -> "Host":
+        return Host(os.open(self.port, os.O_RDWR | os.O_NOCTTY))
+
+    def wait_exit(self, timeout: float = TIMEOUT) -> int:
+        rc = self.proc.wait(timeout)
+        deadline = time.monotonic() + 5
+        while not (self.out.closed and self.err.closed) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        return rc
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+class Host:
+    """The host end of the pty: whole packets in, whole packets out. At a packet boundary a
+    byte that is not the module's address is noise (that is how a host resyncs)."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+        self.buf = bytearray()
+        self.noise = bytearray()
+        self.heartbeats: list[bytes] = []
+
+    def write(self, *data: int) -> None:
+        os.write(self.fd, bytes(data))
+
+    def _fill(self, deadline: float) -> None:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise AssertionError(f"no whole packet in time; have {self.buf.hex(' ')}")
+        ready, _, _ = select.select([self.fd], [], [], left)
+        if ready:
+            self.buf += os.read(self.fd, 4096)
+
+    def packet(self, timeout: float = TIMEOUT, heartbeats: bool = False) -> bytes:
+        """The next packet (address, N, data); heartbeats are skipped unless asked for."""
+        deadline = time.monotonic() + timeout
+        while True:
+            while self.buf and self.buf[0] != A:
+                self.noise.append(self.buf.pop(0))
+            if len(self.buf) >= 2 and len(self.buf) >= 2 + self.buf[1]:
+                n = 2 + self.buf[1]
+                p = bytes(self.buf[:n])
+                del self.buf[:n]
+                if tuple(p[:3]) == HB and len(p) == 4:
+                    self.heartbeats.append(p)
+                    if not heartbeats:
+                        continue
+                return p
+            self._fill(deadline)
+
+    def raw_until(self, tail: bytes, timeout: float = TIMEOUT) -> bytes:
+        """Every byte up to and including the first `tail`, unframed."""
+        deadline = time.monotonic() + timeout
+        while (i := self.buf.find(tail)) < 0:
+            self._fill(deadline)
+        raw = bytes(self.buf[:i + len(tail)])
+        del self.buf[:i + len(tail)]
+        return raw
+
+    def reply(self, *data: int, timeout: float = TIMEOUT) -> bytes:
+        self.write(*data)
+        return self.packet(timeout)
+
+    def close(self) -> None:
+        os.close(self.fd)
+
+
+# Module scope, not session: a running virtual module keeps half a core busy simulating
+# real time, which the rest of `make test` should not pay for.
+@pytest.fixture(scope="module")
+def shared(virtual_bin: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Virtual]:
+    v = Virtual(virtual_bin, tmp_path_factory.mktemp("virtual") / "port")
+    yield v
+    v.send("quit")
+    try:
+        v.wait_exit()
+    finally:
+        v.stop()
+
+
+@pytest.fixture
+def fresh(virtual_bin: Path, tmp_path: Path) -> Iterator[Callable[..., Virtual]]:
+    started: list[Virtual] = []
+
+    def start(*args: str, **popen) -> Virtual:
+        v = Virtual(virtual_bin, tmp_path / "port", *args, **popen)
+        started.append(v)
+        return v
+
+    yield start
+    for v in started:
+        v.stop()
+
+
+def powered_up(v: Virtual) -> tuple[Host, int]:
+    """Open the port, replay power-up (`reset`), and read the power-up message: a host that
+    opens the port after start-up has missed the first one, as with a real module."""
+    host = v.open()
+    mark = len(v.out)
+    v.send("reset")
+    assert host.packet() == bytes([A, 2, 0x80, 4])
+    return host, mark
+
+
+# ---------------------------------------------------------------- start-up and the port
+
+def test_start_up_power_up_is_lost_until_reset(shared: Virtual) -> None:
+    assert os.path.realpath(shared.link) == os.path.realpath(shared.port)
+    assert re.match(r"/dev/pts/\d+$", shared.port)
+    # Sent before any host had the port: gone, and the transcript says so.
+    shared.out.wait(r"< 2:power reset .*\[lost: no host\]")
+    host, mark = powered_up(shared)
+    try:
+        shared.out.wait(r"host opened the port")
+        shared.out.wait(r"< 2:power reset +\(02:80,04\)$", mark)
+    finally:
+        host.close()
+
+
+def test_worked_examples_round_trip(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])  # query pin 3: input
+        assert host.reply(0xAD, 0) == bytes([A, 0])  # resync probe
+        assert host.reply(A, 2, 0x1B, 0x81) == bytes([A, 3, 0x04, 6, 1])  # pad 1 is pulled up
+        host.write(A, 3, 0x1A, 1, 0)  # pin 1 becomes an output
+        host.write(A, 3, 0x1B, 1, 1)  # drive pin 1 high
+        assert host.reply(A, 2, 0x1B, 0x81) == bytes([A, 2, 0x80, 0x0A])  # an output: cmdIndexErr
+        assert host.reply(A, 3, 0x1A, 7, 1) == bytes([A, 2, 0x80, 0x0A])  # no pin 7
+        assert host.reply(A, 1, 0x63) == bytes([A, 2, 0x80, 8])  # unknown command
+        # Binary-transparent both ways (what a tty left cooked would eat or change: ^C, LF,
+        # CR, XON, XOFF, DEL, NUL): another module's packet, and pin 3's DIGCFG there and back.
+        host.write(4, 6, 0x03, 0x0A, 0x0D, 0x11, 0x13, 0x7F)
+        for cfg in (0x11, 0x13, 0x0D, 0x0A, 0x00, 0x01):
+            host.write(A, 3, 0x1A, 3, cfg)
+            assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, cfg])
+        out = shared.out
+        out.wait(r"> 02:1A,03 +query pin 3 config$", mark)
+        out.wait(r"< 02:1A,03,01 +pin 3 config 0x01: input$", mark)
+        out.wait(r"> AD: +resync probe$", mark)
+        out.wait(r"< 02: +resync reply$", mark)
+        out.wait(r"> 02:1A,01,00 +set pin 1 config 0x00: output$", mark)
+        out.wait(r"pin 1 driven low", mark)
+        out.wait(r"> 02:1B,01,01 +drive pin 1 high$", mark)
+        out.wait(r"pin 1 driven high", mark)
+        out.wait(r"< 2:cmd index error +\(02:80,0A\)$", mark)
+        out.wait(r"> 04:03,0A,0D,11,13,7F +not for module 2: ignored$", mark)
+        out.wait(r"> 02:63 +unknown command 0x63$", mark)
+        out.wait(r"< 02:1A,03,0A +pin 3 config 0x0A: output, latch on 1->0, edge timer to high$", mark)
+    finally:
+        host.close()
+
+
+def test_host_framing_in_the_transcript(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        host.write(A, 3, 0x1A)  # left incomplete: the core drops it after RX_TIMEOUT_US
+        shared.out.wait(r"> 02:1A +incomplete: dropped after 25.6 ms$", mark)
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+        assert host.reply(A, 9) == bytes([A, 2, 0x80, 0x1C])  # N > 8: serialError
+        shared.out.wait(r"> 02 N=9 +N > 8: framing error, both bytes dropped$", mark)
+        shared.out.wait(r"< 2:serial error +\(02:80,1C\)$", mark)
+    finally:
+        host.close()
+
+
+def test_heartbeat_answered_raises_link_up(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        up = host.packet(heartbeats=True)
+        assert up == bytes([A, 2, 0, 0])  # UP, one period after reset
+        host.write(A, 2, 0, 2)
+        shared.out.wait(r"> 02:00,02 +heartbeat UP answered$", mark)
+        up_at = shared.out.wait(r"\* link_up 1 +the host answers the heartbeat$", mark)
+        # Unanswered from here: DOWN comes, then the next one falls due and the link is down.
+        assert host.packet(heartbeats=True) == bytes([A, 2, 0, 1])
+        shared.out.wait(r"\* link_up 0 +a heartbeat went unanswered$", up_at)
+    finally:
+        host.close()
+
+
+def test_noise_reaches_the_host_between_packets(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        shared.send("noise 03 02")
+        shared.out.wait(r"< noise 03,02 +between packets$", mark)
+        host.write(A, 2, 0x1A, 3)
+        # 03 02 looks like the start of a packet to the module itself: a host must resync.
+        raw = host.raw_until(bytes([A, 3, 0x1A, 3, 1]))
+        for hb in (bytes([A, 2, 0, 0]), bytes([A, 2, 0, 1])):  # heartbeats may come in between
+            raw = raw.replace(hb, b"")
+        assert raw == bytes([3, 2, A, 3, 0x1A, 3, 1]), raw.hex(" ")
+    finally:
+        host.close()
+
+
+def test_closed_port_loses_bytes_and_reopens(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    host.close()
+    shared.out.wait(r"host closed the port", mark)
+    # Power-up again while no host has the port: lost, not kept for the next host.
+    mark = len(shared.out)
+    shared.send("reset")
+    shared.out.wait(r"< 2:power reset .*\[lost: no host\]$", mark)
+    host = shared.open()
+    try:
+        shared.out.wait(r"host opened the port", mark)
+        # The host's own baud setting changes nothing: the line runs at the build's BAUD.
+        attrs = termios.tcgetattr(host.fd)
+        attrs[4] = attrs[5] = termios.B300
+        termios.tcsetattr(host.fd, termios.TCSANOW, attrs)
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])  # not the power-up message
+        assert not host.noise
+    finally:
+        host.close()
+    for _ in range(3):  # open and close as often as it likes
+        host = shared.open()
+        try:
+            assert host.reply(A, 2, 0x1A, 2) == bytes([A, 3, 0x1A, 2, 1])
+        finally:
+            host.close()
+
+
+def test_pin_lines_drive_the_pads(shared: Virtual) -> None:
+    host, mark = powered_up(shared)
+    try:
+        shared.send("pin 0 low")
+        shared.out.wait(r"\] pin 0 low", mark)
+        assert host.reply(A, 2, 0x1B, 0x80) == bytes([A, 3, 4, 5, 0])
+        shared.send("pin 0 high")
+        shared.out.wait(r"\] pin 0 high", mark)
+        assert host.reply(A, 2, 0x1B, 0x80) == bytes([A, 3, 4, 5, 1])
+        # The transition latch on pin 2 (0->1) and an RFLX read, in the transcript.
+        shared.send("pin 2 low")
+        shared.out.wait(r"\] pin 2 low", mark)
+        host.write(A, 3, 0x1A, 2, 0x07)
+        shared.out.wait(r"> 02:1A,02,07 ", mark)
+        shared.send("pin 2 high")
+        shared.out.wait(r"\* raw input 17 +pin 2 transition latch fired$", mark)
+        host.write(A, 2, 0x1B, 0x42)
+        shared.out.wait(r"\* RFLX id 7 = 1", mark)
+        # A pulse on stdin, timed by the core: width timer of a high pulse on pin 4.
+        shared.send("pin 4 low")
+        host.write(A, 3, 0x1A, 4, 0x19)
+        host.write(A, 2, 0x1D, 0x84)
+        shared.out.wait(r"> 02:1D,84 +time pin 4 \(HOST\)$", mark)
+        shared.send("pin 4 pulse 800us")
+        p = host.packet()
+        assert p[:4] == bytes([A, 4, 4, 14]), p.hex(" ")
+        assert abs(((p[4] << 8) | p[5]) - 500) <= 1, p.hex(" ")  # 800 us = 500 ticks
+        shared.out.wait(r"< 02:04,0E,01,F[345] +pin 4 timer: 50[01] ticks", mark)
+    finally:
+        shared.send("pin 0 high", "pin 2 high", "pin 4 high")
+        host.close()
+
+
+def test_waves_record_the_session(fresh, tmp_path: Path) -> None:
+    wave = tmp_path / "session.vcd"
+    v = fresh("--wave", str(wave))
+    host, _ = powered_up(v)
+    try:
+        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+    finally:
+        host.close()
+    v.send("quit")
+    assert v.wait_exit() == 0
+    assert f"waveform {wave}" in v.out.lines[-1]
+    data = wave.read_bytes()
+    if data.startswith(b"$"):  # a VCD (an FST when lz4's header is installed)
+        assert b"$enddefinitions" in data and b" tx " in data and b"\n#" in data
+    else:
+        assert len(data) > 1000
+
+
+def test_wait_follows_the_wall_clock(fresh) -> None:
+    v = fresh()
+    t0 = time.monotonic()
+    v.send("wait 200ms", "pin 3 low")
+    i = v.out.wait(r"\] pin 3 low")
+    assert time.monotonic() - t0 >= 0.2
+    assert float(re.match(r"\[ *([\d.]+) ms\]", v.out.lines[i]).group(1)) >= 200.0
+    v.proc.stdin.close()
+    assert v.wait_exit() == 0
+    elapsed = time.monotonic() - v.started
+    done = v.out.lines[v.out.wait(r"^done \(end of input\): ")]
+    simulated = float(re.search(r": ([\d.]+) s simulated", done).group(1))
+    assert 0.2 <= simulated <= elapsed, done  # never ahead of the wall clock
+
+
+def test_falling_behind_is_reported_at_most_once_a_second(fresh) -> None:
+    v = fresh()
+    v.send("pin 3 high")  # its line shows that the paced run has begun
+    v.out.wait(r"\] pin 3 high")
+    v.proc.send_signal(signal.SIGSTOP)  # a stall, as under heavy load
+    time.sleep(1.5)
+    v.proc.send_signal(signal.SIGCONT)
+    t0 = time.monotonic()
+    v.err.wait(r"^behind real time: x0\.\d\d$")
+    time.sleep(1.0)
+    v.send("quit")
+    assert v.wait_exit() == 0
+    reports = [line for line in v.err.lines if line.startswith("behind real time")]
+    assert 1 <= len(reports) <= time.monotonic() - t0 + 2, reports
+
+
+# ---------------------------------------------------------------- exit and errors
+
+@pytest.mark.parametrize("how", ["eof", "quit", "SIGTERM", "SIGINT"])
+def test_clean_exit_removes_the_link(fresh, how: str) -> None:
+    v = fresh()
+    assert os.path.islink(v.link) and os.readlink(v.link) == v.port
+    host = v.open()  # a host still holding the port does not stop the exit
+    try:
+        if how == "eof":
+            v.proc.stdin.close()
+        elif how == "quit":
+            v.send("quit")
+        else:
+            v.proc.send_signal(getattr(signal, how))
+        assert v.wait_exit() == 0, v.err.text()
+    finally:
+        host.close()
+    reason = {"eof": "end of input", "quit": "quit"}.get(how, how)
+    assert re.match(rf"done \({reason}\): [\d.]+ s simulated", v.out.lines[-1]), v.out.text()
+    assert not os.path.lexists(v.link)
+    assert not [line for line in v.err.lines if not line.startswith("behind real time")], v.err.text()
+
+
+BAD_LINES = [
+    ("fly 3", "stdin:2: unknown keyword 'fly' (standard input takes pin, wait, reset, noise and quit)"),
+    ("pin 9 high", "stdin:2: bad pin number '9' (0..4)"),
+    ("pin 1 pulse 3parsecs", "stdin:2: bad time '3parsecs'"),
+    ("wait", "stdin:2: expected 'wait TIME'"),
+    ("noise 3 300", "stdin:2: bad byte '300' (0..255)"),
+    ("quit now", "stdin:2: 'quit' takes no argument"),
+    ("2 26 3", "stdin:2: packets come from the host through the port"),
+    ("expect 2 0", "stdin:2: 'expect' belongs in make sim scripts"),
+]
+
+
+@pytest.mark.parametrize("line,message", BAD_LINES)
+def test_bad_stdin_line_stops_with_a_message(fresh, line: str, message: str) -> None:
+    v = fresh()
+    v.send("# a comment", line, "wait 1s")
+    assert v.wait_exit() == 1
+    assert f"error: {message}" in v.err.text(), v.err.text()
+    assert not os.path.lexists(v.link)
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--bogus"], "error: unknown option '--bogus'"),
+    (["extra"], "error: unexpected argument 'extra'"),
+    (["--wave"], "error: option '--wave' needs a value"),
+    (["--bench", "soon"], "error: --bench needs a number of seconds, not 'soon'"),
+])
+def test_bad_argument_gives_usage(virtual_bin: Path, args: list[str], message: str) -> None:
+    run = subprocess.run([str(virtual_bin), *args], cwd=ROOT, capture_output=True, text=True,
+                         stdin=subprocess.DEVNULL, timeout=TIMEOUT)
+    assert run.returncode == 2
+    assert message in run.stderr and "usage: virtual" in run.stderr, run.stderr
+
+
+def test_bad_make_variable_is_refused() -> None:
+    run = subprocess.run(["make", "-n", "virtual-build", "BAUD=fast"], cwd=ROOT, capture_output=True, text=True,
+                         timeout=TIMEOUT)
+    assert run.returncode != 0
+    assert "BAUD=fast: a decimal number, please" in run.stderr, run.stderr
+
+
+def test_pty_that_cannot_be_opened(virtual_bin: Path, tmp_path: Path) -> None:
+    # Four file descriptors: enough to start, one short of opening the pty's slave.
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (4, 4))
+    run = subprocess.run([str(virtual_bin), "--link", str(tmp_path / "port")], cwd=ROOT, capture_output=True,
+                         text=True, stdin=subprocess.DEVNULL, timeout=TIMEOUT, preexec_fn=limit)
+    assert run.returncode == 1
+    assert re.search(r"error: cannot open (a|the) pseudo-terminal", run.stderr), run.stderr
+    assert not os.path.lexists(tmp_path / "port")
+
+
+def test_link_in_use_is_refused(fresh, virtual_bin: Path) -> None:
+    v = fresh()
+    run = subprocess.run([str(virtual_bin), "--link", str(v.link)], cwd=ROOT, capture_output=True, text=True,
+                         stdin=subprocess.DEVNULL, timeout=TIMEOUT)
+    assert run.returncode == 1
+    assert "another virtual module is running with the link" in run.stderr, run.stderr
+    assert os.readlink(v.link) == v.port  # the running one keeps its link
