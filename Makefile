@@ -76,9 +76,12 @@ $(SYNTH_STAMP): synth/requirements.txt | $(STAMP)
 	$(VPY) -m pip install -q -r synth/requirements.txt
 	touch $@
 
-# Area and Fmax table of the core and the board top -> docs/synthesis.md (a few minutes).
+# yosys + nextpnr per design and seed -> synth/build/<design>/seed<N>.json, then the
+# generated regions of docs/synthesis.md (several minutes). SYNTH_ARGS: e.g.
+# "--only core5 --seeds 1" (one design, doc left alone) or "--report-only".
+SYNTH_ARGS ?=
 synth: $(SYNTH_STAMP)
-	$(VPY) synth/synth.py
+	$(VPY) synth/synth.py $(SYNTH_ARGS)
 
 # The iCEBreaker bitstream -> synth/build/icebreaker/icebreaker.bin
 bitstream: $(SYNTH_STAMP)
