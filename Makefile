@@ -64,8 +64,11 @@ $(BENCH_DIR)/session: Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp | $(ST
 
 bench-build: $(BENCH_DIR)/session
 
+# Speed of each simulator, Callgrind breakdown, `make test` wall time -> the generated
+# regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-regression --no-callgrind".
+BENCH_ARGS ?=
 bench: $(BENCH_DIR)/session
-	@$(WITH_VERILATOR) $(VPY) sim/bench.py
+	@$(WITH_VERILATOR) $(VPY) sim/bench.py $(BENCH_ARGS)
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
