@@ -288,7 +288,9 @@ def _path_summary(cp: dict) -> dict:
     logic = [s for s in steps if s["type"] == "logic"]
     carries = sum(1 for s in logic if s["to"]["port"] == "COUT")
     gbufs = sum(1 for s in logic if s["to"]["port"] == "GLOBAL_BUFFER_OUTPUT")
-    luts = sum(1 for s in logic if s["to"]["port"] == "O" and s["to"]["cell"].endswith("_LC"))
+    # A LUT level is a logic cell's I0..I3 -> O (nextpnr's own carry feed-out cells,
+    # `$nextpnr_ICESTORM_LC_<n>`, included: they are LUT4s on the path too).
+    luts = sum(1 for s in logic if s["to"]["port"] == "O")
     routing = sum(s["delay"] for s in steps if s["type"] == "routing")
     total = sum(s["delay"] for s in steps)
     start, end = steps[0]["from"]["cell"], steps[-1]["to"]["cell"]

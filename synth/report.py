@@ -34,6 +34,10 @@ REGIONS = ("run", "area", "per-pin", "consumers", "serial-link", "timing", "crit
 REQUIRED = ("schema", "design", "title", "parameters", "pins", "timers", "board_clock_hz", "date",
             "command", "seeds", "seed", "tools", "device", "cells", "placement", "fmax",
             "critical_paths", "warnings", "modules", "nextpnr_options", "target_mhz")
+PLACEMENT_KEYS = ("lcs_used", "lcs_available")
+PATH_KEYS = ("clock", "from", "to", "lut_levels", "carry_steps", "global_buffers", "other_logic_steps",
+             "logic_ns", "routing_ns", "total_ns")
+MODULE_KEYS = ("module", "name", "params", "instances", "cells", "children")
 NOT_MEASURED = "not measured"
 
 # Differences of the area table, as (from design, to design, what changes): the slopes per pin
@@ -100,6 +104,15 @@ def _read(path: Path, d: flow.Design) -> dict:
             raise ReportError(f"{_rel(path)}: cells.{k} is not a count; {rerun}")
     if rec["placement"] is not None and (not rec["fmax"] or rec["critical_paths"] is None):
         raise ReportError(f"{_rel(path)}: placed, but without Fmax or critical paths; {rerun}")
+    shapes = [("placement", PLACEMENT_KEYS, [rec["placement"]] if rec["placement"] else []),
+              ("fmax", ("achieved_mhz",), list((rec["fmax"] or {}).values())),
+              ("critical_paths", PATH_KEYS, rec["critical_paths"] or []),
+              ("modules", MODULE_KEYS, rec["modules"] or [])]
+    for field, keys, items in shapes:
+        for item in items:
+            lack = [k for k in keys if not isinstance(item, dict) or k not in item]
+            if lack:
+                raise ReportError(f"{_rel(path)}: an entry of {field} lacks {', '.join(lack)}; {rerun}")
     return rec
 
 
@@ -530,7 +543,11 @@ assert tuple(BUILDERS) == REGIONS
 
 def write(doc: Path = DOC, build: Path = flow.BUILD) -> None:
     meas = load(build)
-    bodies = {name: BUILDERS[name](meas) for name in REGIONS}
+    try:
+        bodies = {name: BUILDERS[name](meas) for name in REGIONS}
+    except (KeyError, TypeError, ValueError) as e:   # a summary that passed the checks above but not the tables
+        raise ReportError(f"a summary under {_rel(build)} lacks what the tables read ({e!r}); "
+                          f"rerun `make synth`") from None
     try:
         changed = fill_file(doc, bodies)
     except RegionError as e:
