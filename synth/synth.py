@@ -73,6 +73,10 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--seed S is the bitstream's seed (with --bitstream); use --seeds N for the measurements")
     if args.only and args.no_report:
         ap.error("--only never writes the doc: --no-report does not apply")
+    if args.only and args.seeds and not flow.design(args.only).placed(args.full):
+        d = flow.design(args.only)
+        ap.error(f"{d.name} is placed only with --full: --seeds needs it" if d.place_if_full else
+                 f"{d.name} is not placed ({d.unplaced_why}): --seeds does not apply")
 
     try:
         if args.report_only:
