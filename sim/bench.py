@@ -117,7 +117,7 @@ def _short(fn: str) -> str:
 
 
 def _group(fn: str, obj: str) -> str:
-    if fn.startswith("Vbrainstem_dio"):
+    if fn.startswith("Vbrainstem_dio"):     # the model's logic and its generated scheduler
         return "the model (Verilator's generated code)"
     if fn.startswith(("Verilated", "Vl")) or "pthread_mutex" in fn:
         return "Verilator's runtime (per-eval bookkeeping, locks)"
