@@ -99,8 +99,11 @@ $(BENCH_DIR)/session: $(SIM_DEPS) | $(STAMP)
 
 bench-build: $(BENCH_DIR)/session
 
+# Speed of each simulator, Callgrind breakdown, `make test` wall time -> the generated
+# regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-regression --no-callgrind".
+BENCH_ARGS ?=
 bench: $(BENCH_DIR)/session
-	@$(WITH_VERILATOR) $(VPY) sim/bench.py
+	@$(WITH_VERILATOR) $(VPY) sim/bench.py $(BENCH_ARGS)
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
@@ -159,9 +162,12 @@ $(SYNTH_STAMP): synth/requirements.txt | $(STAMP)
 	$(VPY) -m pip install -q -r synth/requirements.txt
 	touch $@
 
-# Area and Fmax table of the core and the board top -> docs/synthesis.md (a few minutes).
+# yosys + nextpnr per design and seed -> synth/build/<design>/seed<N>.json, then the
+# generated regions of docs/synthesis.md (several minutes). SYNTH_ARGS: e.g.
+# "--only core5 --seeds 1" (one design, doc left alone) or "--report-only".
+SYNTH_ARGS ?=
 synth: $(SYNTH_STAMP)
-	$(VPY) synth/synth.py
+	$(VPY) synth/synth.py $(SYNTH_ARGS)
 
 # The iCEBreaker bitstream -> synth/build/icebreaker/icebreaker.bin
 bitstream: $(SYNTH_STAMP)

