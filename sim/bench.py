@@ -30,11 +30,11 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tb"))
+sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
-import runner  # noqa: E402  (tb/ is not a package)
-from bsd_model import PARAMS_ENV, Params  # noqa: E402
+import runner  # noqa: E402  (tb/lib is not a package)
+from bsd_model import Params  # noqa: E402
 from docregions import RegionError, fill, fill_file  # noqa: E402
 
 BENCH_BIN = ROOT / "sim" / "build" / "bench" / "session"
@@ -74,10 +74,11 @@ def cocotb_run(sim: str, cycles: int) -> dict:
     p = Params()
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "bench.json"
-        env = {PARAMS_ENV: p.to_json(), "BSD_BENCH_CYCLES": str(cycles), "BSD_BENCH_OUT": str(out)}
-        runner.run(sim, "brainstem_dio", "bench_cocotb", p.to_hdl(), extra_env=env)
+        runner.run(sim, "brainstem_dio", "bench_cocotb", p.to_hdl(), name="gp1",  # the tests' GP 1.0 build
+                   args={"cycles": cycles}, module_dir=ROOT / "sim",
+                   extra_env={"BSD_BENCH_OUT": str(out)})
         if not out.exists():
-            raise BenchError(f"the cocotb benchmark on {sim} wrote no result (tb/bench_cocotb.py)")
+            raise BenchError(f"the cocotb benchmark on {sim} wrote no result (sim/bench_cocotb.py)")
         return json.loads(out.read_text())
 
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Tests of tools/docregions.py (python -m pytest tools)."""
+"""Tests of tools/docregions.py, which fills the generated regions of docs/*.md."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
 
 from docregions import RegionError, fill, fill_file, regions  # noqa: E402
 

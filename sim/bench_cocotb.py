@@ -1,6 +1,7 @@
+# SPDX-License-Identifier: Apache-2.0
 """The benchmark's busy scenario under cocotb (run by sim/bench.py, not by pytest):
 back-to-back packet traffic through the TB's drivers and monitors, timers running, two pins
-toggling every 1024 clocks, for BSD_BENCH_CYCLES clocks. The same scenario as
+toggling every 1024 clocks, for the `cycles` test argument (sim/bench.py passes it). The same scenario as
 `sim/session --bench` (the standalone C++ harness), so the figures compare."""
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import cocotb
 
 from bsd_model import Params
 from bsd_tb import TB
+from runner import test_args
 
 # The same command mix as Session::bench in sim/session.cpp.
 COMMANDS = [
@@ -24,7 +26,7 @@ COMMANDS = [
 @cocotb.test()
 async def busy(dut):
     p = Params.from_env()
-    cycles = int(os.environ.get("BSD_BENCH_CYCLES", "200000"))
+    cycles = int(test_args().get("cycles", 200_000))
     tb = TB(dut, p)
     await tb.start()
     done = False
