@@ -1,6 +1,6 @@
 `default_nettype none
-// brainstem_dio on a serial line: uart_rx -> RX FIFO -> brainstem_dio ->
-// (cmdQOverflow merge) -> uart_tx, with the heartbeat on as the original
+// brainstem_dio on a serial line: bsd_uart_rx -> RX FIFO -> brainstem_dio ->
+// (cmdQOverflow merge) -> bsd_uart_tx, with the heartbeat on as the original
 // module (HB_RATE 10 = 256 ms). Everything else is the core's contract.
 //
 // RX FIFO: bytes that arrive while the core holds its input (a reply still
@@ -50,7 +50,7 @@ module brainstem_dio_uart #(
     wire [7:0] rx_data;
     wire       rx_valid;
 
-    uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
+    bsd_uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
         .clk         (clk),
         .rst         (rst),
         .rx_i        (rx),
@@ -208,7 +208,7 @@ module brainstem_dio_uart #(
         .m_axis_tready (tx_tready)
     );
 
-    uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
+    bsd_uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
         .clk           (clk),
         .rst           (rst),
         .s_axis_tdata  (tx_tdata),

@@ -304,7 +304,7 @@ def module_name(mod: str) -> str:
 def serial_link_costs(bd_uart: list[tuple[str, dict[str, int]]]) -> str:
     """The serial link's modules, unflattened: `name` LUT4s / FFs (x instances)."""
     parts = []
-    for mod in ("uart_rx", "uart_tx", "bsd_fifo", "bsd_axis_skid", "bsd_msg_merge", "bsd_heartbeat"):
+    for mod in ("bsd_uart_rx", "bsd_uart_tx", "bsd_fifo", "bsd_axis_skid", "bsd_msg_merge", "bsd_heartbeat"):
         for m, c in bd_uart:
             if module_name(m) == mod and c["n"]:
                 width = re.search(r"WIDTH=s32'([01]+)", m)

@@ -1,11 +1,11 @@
-"""pytest entry for the serial link: unit tests of uart_rx / uart_tx (tb/uart_tests.py) and
+"""pytest entry for the serial link: unit tests of bsd_uart_rx / bsd_uart_tx (tb/uart_tests.py) and
 the tests of brainstem_dio_uart with cocotbext-uart as the host (tb/uart_link_tests.py), on
 Verilator and Icarus.
 
     .venv/bin/python -m pytest -n 2 tb/test_uart.py
 
 Builds (each in its own sim_build/ folder):
-- uart_rx, uart_tx at 12 MHz / 115200 baud (104 clocks per bit, the iCEBreaker's case);
+- bsd_uart_rx, bsd_uart_tx at 12 MHz / 115200 baud (104 clocks per bit, the iCEBreaker's case);
 - brainstem_dio_uart at 9600 baud from 2 MHz (208 clocks per bit; 2 MHz is the core's lowest
   clock) with the wrapper's default heartbeat (HB_RATE 10 = 256 ms) and an 8-byte FIFO;
 - brainstem_dio_uart at 115200 baud from 2.304 MHz (20 clocks per bit) with a 25.6 ms
@@ -28,8 +28,8 @@ from runner import SIMULATORS, run
 
 UNIT = {"CLK_HZ": 12_000_000, "BAUD": 115_200}
 UNIT_TESTS = {
-    "uart_rx": ["test_rx_bytes", "test_rx_baud_mismatch", "test_rx_glitch", "test_rx_framing"],
-    "uart_tx": ["test_tx_back_to_back", "test_tx_gaps", "test_tx_baud_mismatch",
+    "bsd_uart_rx": ["test_rx_bytes", "test_rx_baud_mismatch", "test_rx_glitch", "test_rx_framing"],
+    "bsd_uart_tx": ["test_tx_back_to_back", "test_tx_gaps", "test_tx_baud_mismatch",
                 "test_tx_reset_mid_frame"],
 }
 UNIT_CASES = [(top, t) for top, tests in UNIT_TESTS.items() for t in tests]

@@ -1,7 +1,7 @@
-"""Unit tests of uart_rx and uart_tx (cocotb). tb/test_uart.py selects the tests of the
+"""Unit tests of bsd_uart_rx and bsd_uart_tx (cocotb). tb/test_uart.py selects the tests of the
 toplevel it built; the clock and baud come from $UART_CLK_HZ / $UART_BAUD.
 
-The host side is cocotbext-uart (UartSource into uart_rx, UartSink on uart_tx's line); the
+The host side is cocotbext-uart (UartSource into bsd_uart_rx, UartSink on bsd_uart_tx's line); the
 strict tb/uart_line.py LineMonitor checks what cocotbext-uart's receiver does not (stop bits,
 frame timing), and malformed frames and glitches are driven by hand. Random data is seeded
 from cocotb's seed (printed at the start of each test; COCOTB_RANDOM_SEED=<seed> replays it).
@@ -41,10 +41,10 @@ async def start_clock_and_reset(dut) -> None:
     await RisingEdge(dut.clk)
 
 
-# ====================================================================== uart_rx
+# ====================================================================== bsd_uart_rx
 
 class RxCollector:
-    """Records uart_rx's valid_o strobes (time, byte) and frame_err_o strobes (time)."""
+    """Records bsd_uart_rx's valid_o strobes (time, byte) and frame_err_o strobes (time)."""
 
     def __init__(self, dut) -> None:
         self.dut = dut
@@ -179,10 +179,10 @@ async def test_rx_framing(dut) -> None:
     assert col.data == bytes([0x5A, 0xC3, byte]) and len(col.errors) == 3, (col.data.hex(), col.errors)
 
 
-# ====================================================================== uart_tx
+# ====================================================================== bsd_uart_tx
 
 class TxDriver:
-    """Offers bytes on uart_tx's s_axis (AXI-Stream rules) and records handshake times."""
+    """Offers bytes on bsd_uart_tx's s_axis (AXI-Stream rules) and records handshake times."""
 
     def __init__(self, dut) -> None:
         self.dut = dut

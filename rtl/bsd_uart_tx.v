@@ -5,7 +5,7 @@
 // byte, no idle clock between frames). tx_o and s_axis_tready come straight
 // from flops, so the source's handshake logic starts at a register.
 // The bit period is CLK_HZ / BAUD rounded to whole clocks.
-module uart_tx #(
+module bsd_uart_tx #(
     parameter integer CLK_HZ = 48_000_000,
     parameter integer BAUD   = 9600
 ) (
@@ -23,7 +23,7 @@ module uart_tx #(
 `ifndef SYNTHESIS
     initial begin
         if (DIV < 2) begin
-            $display("uart_tx: CLK_HZ / BAUD = %0d, need at least 2", DIV);
+            $display("bsd_uart_tx: CLK_HZ / BAUD = %0d, need at least 2", DIV);
             $finish;
         end
     end

@@ -12,7 +12,7 @@
 // 9 stop), and valid_o / frame_err_o are set on the stop bit's sample edge.
 // DIV = CLK_HZ / BAUD rounded to whole clocks (12 MHz / 115200: 104, the
 // bit 0.16 % short; a sender up to about 4 % off either way is read right).
-module uart_rx #(
+module bsd_uart_rx #(
     parameter integer CLK_HZ = 48_000_000,
     parameter integer BAUD   = 9600
 ) (
@@ -39,7 +39,7 @@ module uart_rx #(
     initial begin
         // A start bit must be confirmed at least a few clocks after its edge.
         if (DIV < 8) begin
-            $display("uart_rx: CLK_HZ / BAUD = %0d, need at least 8", DIV);
+            $display("bsd_uart_rx: CLK_HZ / BAUD = %0d, need at least 8", DIV);
             $finish;
         end
     end
