@@ -19,9 +19,9 @@ module bsd_uart_rx #(
     input  wire       clk,
     input  wire       rst,
     input  wire       rx_i,         // serial line, asynchronous to clk, idle high
-    output reg  [7:0] data_o,       // the byte of the latest valid_o
-    output reg        valid_o,      // one-clock strobe: a good byte in data_o
-    output reg        frame_err_o   // one-clock strobe: a byte with a bad stop bit was dropped
+    output wire [7:0] data_o,       // the byte of the latest valid_o
+    output wire       valid_o,      // one-clock strobe: a good byte in data_o
+    output wire       frame_err_o   // one-clock strobe: a byte with a bad stop bit was dropped
 );
     localparam integer DIV  = (CLK_HZ + BAUD / 2) / BAUD;  // clocks per bit
     localparam integer HALF = DIV / 2;                     // start edge to mid start bit
@@ -54,14 +54,21 @@ module bsd_uart_rx #(
     reg [CW-1:0] cnt_q;    // clocks to the next sample point, minus 1
     reg [2:0]    bit_q;    // data bit being received
     reg [7:0]    shift_q;  // data bits so far, the newest in bit 7
+    reg [7:0]    data_q;
+    reg          valid_q;
+    reg          frame_err_q;
+
+    assign data_o      = data_q;
+    assign valid_o     = valid_q;
+    assign frame_err_o = frame_err_q;
 
     wire sample = (cnt_q == {CW{1'b0}});
 
     always @(posedge clk) begin
         meta_q      <= rx_i;
         rx_q        <= meta_q;
-        valid_o     <= 1'b0;
-        frame_err_o <= 1'b0;
+        valid_q     <= 1'b0;
+        frame_err_q <= 1'b0;
         if (!sample) cnt_q <= cnt_q - 1'b1;
 
         case (state_q)
@@ -90,11 +97,11 @@ module bsd_uart_rx #(
             ST_STOP: begin
                 if (sample) begin
                     if (rx_q) begin
-                        data_o  <= shift_q;
-                        valid_o <= 1'b1;
+                        data_q  <= shift_q;
+                        valid_q <= 1'b1;
                         state_q <= ST_IDLE;
                     end else begin
-                        frame_err_o <= 1'b1;
+                        frame_err_q <= 1'b1;
                         state_q     <= ST_BREAK;
                     end
                 end
@@ -111,9 +118,9 @@ module bsd_uart_rx #(
             cnt_q       <= {CW{1'b0}};
             bit_q       <= 3'd0;
             shift_q     <= 8'd0;
-            data_o      <= 8'd0;
-            valid_o     <= 1'b0;
-            frame_err_o <= 1'b0;
+            data_q      <= 8'd0;
+            valid_q     <= 1'b0;
+            frame_err_q <= 1'b0;
         end
     end
 endmodule
