@@ -13,10 +13,9 @@ module brainstem_dio #(
     parameter integer               PIN_ID_BASE   = 5,
     parameter integer               TIMER_ID_BASE = 10,
     // Names the raw_trans bits (raw input TRANS_ID_BASE + p) in transcripts
-    // and docs only; the contract gives it no effect at the ports.
-    /* verilator lint_off UNUSEDPARAM */
+    // and docs only; the contract gives it no effect at the ports (only the
+    // parameter checks below read it).
     parameter integer               TRANS_ID_BASE = 15,
-    /* verilator lint_on UNUSEDPARAM */
     parameter integer               POLL_HZ       = 10_000,
     parameter integer               RX_TIMEOUT_US = 25_600,
     parameter integer               HB_RATE       = 0
@@ -48,28 +47,51 @@ module brainstem_dio #(
     localparam integer K         = NUM_PINS + 2;
 
     // ---------------------------------------------------------------- checks
+    // One check and one message per rule of the contract (PROTOCOL.md §1,
+    // README), each naming the parameter and its value. $fatal in an initial
+    // block stops the simulation at time 0 with a non-zero exit, on Icarus 11
+    // and on Verilator 5; Yosys defines SYNTHESIS and never sees the checks.
+    // The widths of TIMER_MASK, FIXED_MASK and FIXED_CFG are their declared
+    // ranges: the language cuts a wider value to them before any check could
+    // see it (a Verilator build rejects such a value, WIDTHTRUNC).
 `ifndef SYNTHESIS
-    // Device IDs are 6 bits: every pin's level ID and every timer pin's ID.
-    // (A Verilog-2005 function needs an argument, hence the unused one.)
-    function integer top_timer_pin(input integer unused);
+    // The highest pin with a timer, -1 if none. (A Verilog-2005 function needs
+    // an argument, hence the unused one.)
+    function integer highest_timer_pin(input integer unused);
         integer q;
         begin
-            top_timer_pin = -1;
+            highest_timer_pin = -1;
             for (q = 0; q < NUM_PINS; q = q + 1)
-                if (TIMER_MASK[q]) top_timer_pin = q;
+                if (TIMER_MASK[q]) highest_timer_pin = q;
         end
     endfunction
 
+    localparam integer TOP_TIMER = highest_timer_pin(0);
+
     initial begin
-        if (MODULE_ADDR < 2 || MODULE_ADDR > 254 || MODULE_ADDR % 2 != 0 ||
-            NUM_PINS < 1 || NUM_PINS > 64 || CLK_HZ < 2_000_000 ||
-            PIN_ID_BASE < 0 || PIN_ID_BASE + NUM_PINS > 64 ||
-            TIMER_ID_BASE < 0 || TIMER_ID_BASE + top_timer_pin(0) > 63 ||
-            POLL_HZ < 0 || POLL_HZ > CLK_HZ || RX_TIMEOUT_US < 0 ||
-            HB_RATE < 0 || HB_RATE > 100_000) begin
-            $display("brainstem_dio: parameters outside the contract's ranges");
-            $finish;
-        end
+        if (CLK_HZ < 2_000_000)
+            $fatal(1, "brainstem_dio: CLK_HZ = %0d must be at least 2000000", CLK_HZ);
+        if (MODULE_ADDR < 2 || MODULE_ADDR > 254 || MODULE_ADDR % 2 != 0)
+            $fatal(1, "brainstem_dio: MODULE_ADDR = %0d must be even and in 2..254", MODULE_ADDR);
+        if (NUM_PINS < 1 || NUM_PINS > 64)
+            $fatal(1, "brainstem_dio: NUM_PINS = %0d must be in 1..64", NUM_PINS);
+        // Device IDs are 6 bits: every pin's level ID, every timer pin's ID,
+        // every pin's raw transition ID.
+        if (PIN_ID_BASE < 0 || PIN_ID_BASE + NUM_PINS - 1 > 63)
+            $fatal(1, "brainstem_dio: PIN_ID_BASE = %0d gives pin IDs up to PIN_ID_BASE + NUM_PINS - 1 = %0d, must be in 0..63",
+                   PIN_ID_BASE, PIN_ID_BASE + NUM_PINS - 1);
+        if (TOP_TIMER >= 0 && (TIMER_ID_BASE < 0 || TIMER_ID_BASE + TOP_TIMER > 63))
+            $fatal(1, "brainstem_dio: TIMER_ID_BASE = %0d gives timer IDs up to TIMER_ID_BASE + %0d (highest timer pin) = %0d, must be in 0..63",
+                   TIMER_ID_BASE, TOP_TIMER, TIMER_ID_BASE + TOP_TIMER);
+        if (TRANS_ID_BASE < 0 || TRANS_ID_BASE + NUM_PINS - 1 > 63)
+            $fatal(1, "brainstem_dio: TRANS_ID_BASE = %0d gives raw input IDs up to TRANS_ID_BASE + NUM_PINS - 1 = %0d, must be in 0..63",
+                   TRANS_ID_BASE, TRANS_ID_BASE + NUM_PINS - 1);
+        if (POLL_HZ < 0 || POLL_HZ > CLK_HZ)
+            $fatal(1, "brainstem_dio: POLL_HZ = %0d must be in 0..CLK_HZ (%0d)", POLL_HZ, CLK_HZ);
+        if (RX_TIMEOUT_US < 0)
+            $fatal(1, "brainstem_dio: RX_TIMEOUT_US = %0d must not be negative", RX_TIMEOUT_US);
+        if (HB_RATE < 0 || HB_RATE > 100_000)
+            $fatal(1, "brainstem_dio: HB_RATE = %0d must be in 0..100000", HB_RATE);
     end
 `endif
 

@@ -27,10 +27,8 @@ module bsd_fifo #(
 
 `ifndef SYNTHESIS
     initial begin
-        if (DEPTH < 2 || (1 << AW) != DEPTH) begin
-            $display("bsd_fifo: DEPTH %0d is not a power of two >= 2", DEPTH);
-            $finish;
-        end
+        if (DEPTH < 2 || (1 << AW) != DEPTH)
+            $fatal(1, "bsd_fifo: DEPTH = %0d must be a power of two, at least 2", DEPTH);
     end
 `endif
 

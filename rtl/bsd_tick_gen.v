@@ -59,12 +59,12 @@ module bsd_tick_gen #(
                 end
             end
 
+`ifndef SYNTHESIS
             initial begin
-                if (RATE_HZ > CLK_HZ) begin
-                    $display("bsd_tick_gen: RATE_HZ %0d above CLK_HZ %0d", RATE_HZ, CLK_HZ);
-                    $finish;
-                end
+                if (RATE_HZ > CLK_HZ)
+                    $fatal(1, "bsd_tick_gen: RATE_HZ = %0d must be at most CLK_HZ = %0d", RATE_HZ, CLK_HZ);
             end
+`endif
         end
     endgenerate
 endmodule

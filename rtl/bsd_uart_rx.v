@@ -25,7 +25,7 @@ module bsd_uart_rx #(
 );
     localparam integer DIV  = (CLK_HZ + BAUD / 2) / BAUD;  // clocks per bit
     localparam integer HALF = DIV / 2;                     // start edge to mid start bit
-    localparam integer CW   = $clog2(DIV);
+    localparam integer CW   = $clog2(DIV < 2 ? 2 : DIV);  // >= 1 bit, so a bad DIV reaches the check
     localparam [CW-1:0] BIT_RELOAD  = DIV[CW-1:0] - 1'b1;
     localparam [CW-1:0] HALF_RELOAD = HALF[CW-1:0] - 1'b1;
 
@@ -38,10 +38,9 @@ module bsd_uart_rx #(
 `ifndef SYNTHESIS
     initial begin
         // A start bit must be confirmed at least a few clocks after its edge.
-        if (DIV < 8) begin
-            $display("bsd_uart_rx: CLK_HZ / BAUD = %0d, need at least 8", DIV);
-            $finish;
-        end
+        if (DIV < 8)
+            $fatal(1, "bsd_uart_rx: CLK_HZ / BAUD = %0d / %0d = %0d clocks per bit, must be at least 8",
+                   CLK_HZ, BAUD, DIV);
     end
 `endif
 

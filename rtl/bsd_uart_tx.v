@@ -17,15 +17,14 @@ module bsd_uart_tx #(
     output wire       tx_o           // serial line, idle high
 );
     localparam integer DIV = (CLK_HZ + BAUD / 2) / BAUD;  // clocks per bit
-    localparam integer CW  = $clog2(DIV);
+    localparam integer CW  = $clog2(DIV < 2 ? 2 : DIV);  // >= 1 bit, so a bad DIV reaches the check
     localparam [CW-1:0] BIT_RELOAD = DIV[CW-1:0] - 1'b1;
 
 `ifndef SYNTHESIS
     initial begin
-        if (DIV < 2) begin
-            $display("bsd_uart_tx: CLK_HZ / BAUD = %0d, need at least 2", DIV);
-            $finish;
-        end
+        if (DIV < 2)
+            $fatal(1, "bsd_uart_tx: CLK_HZ / BAUD = %0d / %0d = %0d clocks per bit, must be at least 2",
+                   CLK_HZ, BAUD, DIV);
     end
 `endif
 

@@ -12,8 +12,9 @@ import hashlib
 import os
 import subprocess
 import sys
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Mapping
+from typing import Iterator, Mapping
 
 from cocotb_tools.runner import get_runner
 
@@ -54,6 +55,15 @@ def rtl_sources() -> list[Path]:
     return sorted(RTL.glob("*.v"))
 
 
+@contextmanager
+def build_lock(build_dir: Path) -> Iterator[Path]:
+    """Create `build_dir` and hold its file lock: one build of a folder at a time."""
+    build_dir.mkdir(parents=True, exist_ok=True)
+    with open(build_dir / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield build_dir
+
+
 def _build_dir(sim: str, toplevel: str, parameters: Mapping[str, object], waves: bool) -> Path:
     text = ",".join(f"{k}={parameters[k]}" for k in sorted(parameters))
     tag = hashlib.sha1(text.encode()).hexdigest()[:10] if text else "default"
@@ -72,14 +82,12 @@ def run(
     parameters = dict(parameters or {})
     waves = os.environ.get("WAVES", "0") == "1"
     build_dir = _build_dir(sim, toplevel, parameters, waves)
-    build_dir.mkdir(parents=True, exist_ok=True)
     runner = get_runner(sim)
     build_args: list[str] = []
     if sim == "verilator":
         # cocotb's runner adds --trace (a VCD, dump.vcd) for waves; FST where it can build.
         build_args = ["-Wno-fatal", "-O3"] + (["--trace-fst"] if waves and _have_lz4() else [])
-    with open(build_dir / ".lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with build_lock(build_dir):
         runner.build(
             sources=rtl_sources(),
             hdl_toplevel=toplevel,
