@@ -13,10 +13,9 @@ module brainstem_dio #(
     parameter integer               PIN_ID_BASE   = 5,
     parameter integer               TIMER_ID_BASE = 10,
     // Names the raw_trans bits (raw input TRANS_ID_BASE + p) in transcripts
-    // and docs only; the contract gives it no effect at the ports.
-    /* verilator lint_off UNUSEDPARAM */
+    // and docs only; the contract gives it no effect at the ports (only the
+    // parameter checks below read it).
     parameter integer               TRANS_ID_BASE = 15,
-    /* verilator lint_on UNUSEDPARAM */
     parameter integer               POLL_HZ       = 10_000,
     parameter integer               RX_TIMEOUT_US = 25_600,
     parameter integer               HB_RATE       = 0
@@ -48,28 +47,51 @@ module brainstem_dio #(
     localparam integer K         = NUM_PINS + 2;
 
     // ---------------------------------------------------------------- checks
+    // One check and one message per rule of the contract (PROTOCOL.md §1,
+    // README), each naming the parameter and its value. $fatal in an initial
+    // block stops the simulation at time 0 with a non-zero exit, on Icarus 11
+    // and on Verilator 5; Yosys defines SYNTHESIS and never sees the checks.
+    // The widths of TIMER_MASK, FIXED_MASK and FIXED_CFG are their declared
+    // ranges: the language cuts a wider value to them before any check could
+    // see it (a Verilator build rejects such a value, WIDTHTRUNC).
 `ifndef SYNTHESIS
-    // Device IDs are 6 bits: every pin's level ID and every timer pin's ID.
-    // (A Verilog-2005 function needs an argument, hence the unused one.)
-    function integer top_timer_pin(input integer unused);
+    // The highest pin with a timer, -1 if none. (A Verilog-2005 function needs
+    // an argument, hence the unused one.)
+    function integer highest_timer_pin(input integer unused);
         integer q;
         begin
-            top_timer_pin = -1;
+            highest_timer_pin = -1;
             for (q = 0; q < NUM_PINS; q = q + 1)
-                if (TIMER_MASK[q]) top_timer_pin = q;
+                if (TIMER_MASK[q]) highest_timer_pin = q;
         end
     endfunction
 
+    localparam integer TOP_TIMER = highest_timer_pin(0);
+
     initial begin
-        if (MODULE_ADDR < 2 || MODULE_ADDR > 254 || MODULE_ADDR % 2 != 0 ||
-            NUM_PINS < 1 || NUM_PINS > 64 || CLK_HZ < 2_000_000 ||
-            PIN_ID_BASE < 0 || PIN_ID_BASE + NUM_PINS > 64 ||
-            TIMER_ID_BASE < 0 || TIMER_ID_BASE + top_timer_pin(0) > 63 ||
-            POLL_HZ < 0 || POLL_HZ > CLK_HZ || RX_TIMEOUT_US < 0 ||
-            HB_RATE < 0 || HB_RATE > 100_000) begin
-            $display("brainstem_dio: parameters outside the contract's ranges");
-            $finish;
-        end
+        if (CLK_HZ < 2_000_000)
+            $fatal(1, "brainstem_dio: CLK_HZ = %0d must be at least 2000000", CLK_HZ);
+        if (MODULE_ADDR < 2 || MODULE_ADDR > 254 || MODULE_ADDR % 2 != 0)
+            $fatal(1, "brainstem_dio: MODULE_ADDR = %0d must be even and in 2..254", MODULE_ADDR);
+        if (NUM_PINS < 1 || NUM_PINS > 64)
+            $fatal(1, "brainstem_dio: NUM_PINS = %0d must be in 1..64", NUM_PINS);
+        // Device IDs are 6 bits: every pin's level ID, every timer pin's ID,
+        // every pin's raw transition ID.
+        if (PIN_ID_BASE < 0 || PIN_ID_BASE + NUM_PINS - 1 > 63)
+            $fatal(1, "brainstem_dio: PIN_ID_BASE = %0d gives pin IDs up to PIN_ID_BASE + NUM_PINS - 1 = %0d, must be in 0..63",
+                   PIN_ID_BASE, PIN_ID_BASE + NUM_PINS - 1);
+        if (TOP_TIMER >= 0 && (TIMER_ID_BASE < 0 || TIMER_ID_BASE + TOP_TIMER > 63))
+            $fatal(1, "brainstem_dio: TIMER_ID_BASE = %0d gives timer IDs up to TIMER_ID_BASE + %0d (highest timer pin) = %0d, must be in 0..63",
+                   TIMER_ID_BASE, TOP_TIMER, TIMER_ID_BASE + TOP_TIMER);
+        if (TRANS_ID_BASE < 0 || TRANS_ID_BASE + NUM_PINS - 1 > 63)
+            $fatal(1, "brainstem_dio: TRANS_ID_BASE = %0d gives raw input IDs up to TRANS_ID_BASE + NUM_PINS - 1 = %0d, must be in 0..63",
+                   TRANS_ID_BASE, TRANS_ID_BASE + NUM_PINS - 1);
+        if (POLL_HZ < 0 || POLL_HZ > CLK_HZ)
+            $fatal(1, "brainstem_dio: POLL_HZ = %0d must be in 0..CLK_HZ (%0d)", POLL_HZ, CLK_HZ);
+        if (RX_TIMEOUT_US < 0)
+            $fatal(1, "brainstem_dio: RX_TIMEOUT_US = %0d must not be negative", RX_TIMEOUT_US);
+        if (HB_RATE < 0 || HB_RATE > 100_000)
+            $fatal(1, "brainstem_dio: HB_RATE = %0d must be in 0..100000", HB_RATE);
     end
 `endif
 
@@ -100,7 +122,7 @@ module brainstem_dio #(
     wire init_arm = |init_q;
 
     // -------------------------------------------------------------- parsing
-    wire       hold;
+    wire       pkt_hold;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -110,7 +132,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (rst),
         .tick_i        (tick),
-        .hold_i        (hold),
+        .hold_i        (pkt_hold),
         .s_axis_tdata  (s_axis_tdata),
         .s_axis_tvalid (s_axis_tvalid),
         .s_axis_tready (s_axis_tready),
@@ -126,28 +148,28 @@ module brainstem_dio #(
     wire [5*NUM_PINS-1:0] cfg;
     wire [NUM_PINS-1:0]   out_latch;
     wire [NUM_PINS-1:0]   timer_busy;
-    wire                  cfg_we, out_we, out_val;
-    wire [5:0]            wr_pin;
-    wire [4:0]            wr_cfg;
+    wire                  cfg_we, out_we;
+    wire [5:0]            wr_pin_idx;
+    wire [4:0]            cfg_wdata;
+    wire                  out_wdata;
     wire [NUM_PINS-1:0]   rearm;
     wire [NUM_PINS-1:0]   timer_start;
     wire                  timer_host, timer_rflx;
     wire                  hb_answer;
     wire                  hb_answer_down;
-    wire                  rep_req, rep_done;
-    wire [2:0]            rep_n;
-    wire [31:0]           rep_data;
-    wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
-    wire [5:0]            dio_rflx_id;
-    wire [NUM_PINS-1:0]   dio_rflx_below;
-    wire                  exec_hold;
+    wire                  s2_valid;
+    wire                  s2_reply;
+    wire [2:0]            s2_reply_n;
+    wire [31:0]           s2_reply_data;
+    wire                  s2_dio_rflx;
+    wire [5:0]            s2_dio_id;
+    wire                  s2_dio_val;
 
     bsd_exec #(
-        .NUM_PINS      (NUM_PINS),
-        .TIMER_MASK    (TIMER_MASK),
-        .FIXED_MASK    (FIXED_MASK),
-        .PIN_ID_BASE   (PIN_ID_BASE),
-        .TIMER_ID_BASE (TIMER_ID_BASE)
+        .NUM_PINS    (NUM_PINS),
+        .TIMER_MASK  (TIMER_MASK),
+        .FIXED_MASK  (FIXED_MASK),
+        .PIN_ID_BASE (PIN_ID_BASE)
     ) u_exec (
         .clk             (clk),
         .rst             (rst),
@@ -160,47 +182,72 @@ module brainstem_dio #(
         .cfg_i           (cfg),
         .level_i         (level),
         .timer_busy_i    (timer_busy),
-        .hold_o          (exec_hold),
         .cfg_we_o        (cfg_we),
         .out_we_o        (out_we),
-        .pin_o           (wr_pin),
-        .cfg_o           (wr_cfg),
-        .out_o           (out_val),
+        .pin_idx_o       (wr_pin_idx),
+        .cfg_wdata_o     (cfg_wdata),
+        .out_wdata_o     (out_wdata),
         .rearm_o         (rearm),
         .timer_start_o   (timer_start),
         .timer_host_o    (timer_host),
         .timer_rflx_o    (timer_rflx),
         .hb_answer_o     (hb_answer),
         .hb_answer_down_o(hb_answer_down),
-        .rep_req_o       (rep_req),
-        .rep_n_o         (rep_n),
-        .rep_data_o      (rep_data),
-        .rep_done_i      (rep_done),
-        .dio_rflx_req_o  (dio_rflx_req),
-        .dio_rflx_id_o   (dio_rflx_id),
-        .dio_rflx_val_o  (dio_rflx_val),
-        .dio_rflx_below_o(dio_rflx_below),
-        .dio_rflx_done_i (dio_rflx_done)
+        .s2_valid_o      (s2_valid),
+        .reply_o         (s2_reply),
+        .reply_n_o       (s2_reply_n),
+        .reply_data_o    (s2_reply_data),
+        .dio_rflx_o      (s2_dio_rflx),
+        .dio_id_o        (s2_dio_id),
+        .dio_val_o       (s2_dio_val)
     );
 
-    // The parser holds a packet that may need the reply slot or the DIG_IO
-    // RFLX slot while either is full or about to be filled.
-    assign hold = exec_hold;
+    // The waiting reply and DIG_IO RFLX value; the parser holds a packet that
+    // may need either slot while it is full or about to be filled.
+    wire                  rep_req, rep_done;
+    wire [2:0]            rep_n;
+    wire [31:0]           rep_data;
+    wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
+    wire [5:0]            dio_rflx_id;
+    wire [NUM_PINS-1:0]   dio_rflx_below;
+
+    bsd_reply_slot #(.NUM_PINS(NUM_PINS), .TIMER_ID_BASE(TIMER_ID_BASE)) u_slot (
+        .clk          (clk),
+        .rst          (rst),
+        .pkt_valid_i  (pkt_valid),
+        .s2_valid_i   (s2_valid),
+        .reply_i      (s2_reply),
+        .reply_n_i    (s2_reply_n),
+        .reply_data_i (s2_reply_data),
+        .dio_rflx_i   (s2_dio_rflx),
+        .dio_id_i     (s2_dio_id),
+        .dio_val_i    (s2_dio_val),
+        .hold_o       (pkt_hold),
+        .rep_req_o    (rep_req),
+        .rep_n_o      (rep_n),
+        .rep_data_o   (rep_data),
+        .rep_done_i   (rep_done),
+        .dio_req_o    (dio_rflx_req),
+        .dio_id_o     (dio_rflx_id),
+        .dio_val_o    (dio_rflx_val),
+        .dio_below_o  (dio_rflx_below),
+        .dio_done_i   (dio_rflx_done)
+    );
 
     bsd_cfg_regs #(
         .NUM_PINS   (NUM_PINS),
         .FIXED_MASK (FIXED_MASK),
         .FIXED_CFG  (FIXED_CFG)
     ) u_cfg (
-        .clk      (clk),
-        .rst      (rst),
-        .cfg_we_i (cfg_we),
-        .out_we_i (out_we),
-        .pin_i    (wr_pin),
-        .cfg_i    (wr_cfg),
-        .out_i    (out_val),
-        .cfg_o    (cfg),
-        .out_o    (out_latch)
+        .clk         (clk),
+        .rst         (rst),
+        .cfg_we_i    (cfg_we),
+        .out_we_i    (out_we),
+        .pin_idx_i   (wr_pin_idx),
+        .cfg_wdata_i (cfg_wdata),
+        .out_wdata_i (out_wdata),
+        .cfg_o       (cfg),
+        .out_o       (out_latch)
     );
 
     // --------------------------------------------------------- per-pin blocks
@@ -325,9 +372,9 @@ module brainstem_dio #(
         .timer_req_i    (timer_rflx_req),
         .timer_result_i (timer_result),
         .timer_done_o   (timer_rflx_done),
-        .rflx_valid     (rflx_valid),
-        .rflx_id        (rflx_id),
-        .rflx_data      (rflx_data)
+        .rflx_valid_o   (rflx_valid),
+        .rflx_id_o      (rflx_id),
+        .rflx_data_o    (rflx_data)
     );
 endmodule
 `default_nettype wire

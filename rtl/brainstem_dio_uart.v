@@ -1,6 +1,6 @@
 `default_nettype none
-// brainstem_dio on a serial line: uart_rx -> RX FIFO -> brainstem_dio ->
-// (cmdQOverflow merge) -> uart_tx, with the heartbeat on as the original
+// brainstem_dio on a serial line: bsd_uart_rx -> RX FIFO -> brainstem_dio ->
+// (cmdQOverflow merge) -> bsd_uart_tx, with the heartbeat on as the original
 // module (HB_RATE 10 = 256 ms). Everything else is the core's contract.
 //
 // RX FIFO: bytes that arrive while the core holds its input (a reply still
@@ -42,7 +42,7 @@ module brainstem_dio_uart #(
     output wire [15:0]         rflx_data,
     output wire                link_up,
     output wire                frame_err,    // one-clock strobe: a byte with a bad stop bit was dropped
-    output reg                 rx_overflow   // one-clock strobe (a clock late): a byte was dropped, FIFO full
+    output wire                rx_overflow   // one-clock strobe (a clock late): a byte was dropped, FIFO full
 );
     `include "bsd_protocol.vh"
 
@@ -50,7 +50,7 @@ module brainstem_dio_uart #(
     wire [7:0] rx_data;
     wire       rx_valid;
 
-    uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
+    bsd_uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
         .clk         (clk),
         .rst         (rst),
         .rx_i        (rx),
@@ -97,21 +97,24 @@ module brainstem_dio_uart #(
     // The serial line cannot wait: a byte the FIFO cannot take is lost.
     wire drop = rx_valid && !fifo_ready;
 
-    reg burst_q;     // in an overflow burst (until the FIFO has emptied)
-    reg ovf_pend_q;  // cmdQOverflow waits to be sent
+    reg  rx_overflow_q;
+    reg  burst_q;     // in an overflow burst (until the FIFO has emptied)
+    reg  ovf_pend_q;  // cmdQOverflow waits to be sent
     wire ovf_done;
 
+    assign rx_overflow = rx_overflow_q;
+
     always @(posedge clk) begin
-        rx_overflow <= drop;
+        rx_overflow_q <= drop;
         if (drop) burst_q <= 1'b1;
         else if (fifo_empty) burst_q <= 1'b0;
         if (ovf_done) ovf_pend_q <= 1'b0;
         // A new burst while the previous message still waits needs no second one.
         if (drop && !burst_q) ovf_pend_q <= 1'b1;
         if (rst) begin
-            rx_overflow <= 1'b0;
-            burst_q     <= 1'b0;
-            ovf_pend_q  <= 1'b0;
+            rx_overflow_q <= 1'b0;
+            burst_q       <= 1'b0;
+            ovf_pend_q    <= 1'b0;
         end
     end
 
@@ -208,7 +211,7 @@ module brainstem_dio_uart #(
         .m_axis_tready (tx_tready)
     );
 
-    uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
+    bsd_uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
         .clk           (clk),
         .rst           (rst),
         .s_axis_tdata  (tx_tdata),

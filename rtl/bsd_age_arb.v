@@ -13,13 +13,16 @@ module bsd_age_arb #(
     input  wire         rst,
     input  wire [K-1:0] req_i,
     input  wire [K-1:0] exclude_i,  // pending but not eligible (being served)
-    output reg  [K-1:0] gnt_o       // one-hot or zero
+    output wire [K-1:0] gnt_o       // one-hot or zero
 );
     reg  [K-1:0]   req_q;
     reg  [K*K-1:0] older_q;
     reg  [K*K-1:0] older_d;
     wire [K-1:0]   born = req_i & ~req_q;
     wire [K-1:0]   cand = req_q & ~exclude_i;
+    reg  [K-1:0]   gnt;
+
+    assign gnt_o = gnt;
 
     // below[i]: the requesters with a lower index than i.
     function [K-1:0] below(input integer i);
@@ -34,7 +37,7 @@ module bsd_age_arb #(
             // older than every newborn.
             older_d[K*i +: K] = born[i] ? (req_q | (born & below(i)))
                                         : (older_q[K*i +: K] & ~born);
-            gnt_o[i] = cand[i] && !(|(cand & older_q[K*i +: K]));
+            gnt[i] = cand[i] && !(|(cand & older_q[K*i +: K]));
         end
     end
 

@@ -12,34 +12,39 @@ module bsd_axis_skid #(
     input  wire [WIDTH-1:0] s_axis_tdata,
     input  wire             s_axis_tvalid,
     output wire             s_axis_tready,
-    output reg  [WIDTH-1:0] m_axis_tdata,
-    output reg              m_axis_tvalid,
+    output wire [WIDTH-1:0] m_axis_tdata,
+    output wire             m_axis_tvalid,
     input  wire             m_axis_tready
 );
     reg [WIDTH-1:0] skid_q;
     reg             skid_valid_q;
+    // The output register.
+    reg [WIDTH-1:0] out_data_q;
+    reg             out_valid_q;
 
     assign s_axis_tready = !skid_valid_q;
+    assign m_axis_tdata  = out_data_q;
+    assign m_axis_tvalid = out_valid_q;
 
-    wire advance = m_axis_tready || !m_axis_tvalid;
+    wire advance = m_axis_tready || !out_valid_q;
 
     always @(posedge clk) begin
         if (advance) begin
             if (skid_valid_q) begin
-                m_axis_tdata  <= skid_q;
-                m_axis_tvalid <= 1'b1;
-                skid_valid_q  <= 1'b0;
+                out_data_q   <= skid_q;
+                out_valid_q  <= 1'b1;
+                skid_valid_q <= 1'b0;
             end else begin
-                m_axis_tdata  <= s_axis_tdata;
-                m_axis_tvalid <= s_axis_tvalid;
+                out_data_q  <= s_axis_tdata;
+                out_valid_q <= s_axis_tvalid;
             end
         end else if (s_axis_tvalid && !skid_valid_q) begin
             skid_q       <= s_axis_tdata;
             skid_valid_q <= 1'b1;
         end
         if (rst) begin
-            m_axis_tvalid <= 1'b0;
-            skid_valid_q  <= 1'b0;
+            out_valid_q  <= 1'b0;
+            skid_valid_q <= 1'b0;
         end
     end
 endmodule

@@ -10,11 +10,11 @@ module bsd_cfg_regs #(
     input  wire                  rst,
     input  wire                  cfg_we_i,
     input  wire                  out_we_i,
-    input  wire [5:0]            pin_i,
-    input  wire [4:0]            cfg_i,
-    input  wire                  out_i,
-    output wire [5*NUM_PINS-1:0] cfg_o,
-    output wire [NUM_PINS-1:0]   out_o
+    input  wire [5:0]            pin_idx_i,    // the pin both writes address
+    input  wire [4:0]            cfg_wdata_i,
+    input  wire                  out_wdata_i,
+    output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0
+    output wire [NUM_PINS-1:0]   out_o         // every pin's output latch
 );
     localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
 
@@ -23,7 +23,7 @@ module bsd_cfg_regs #(
         for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
             reg out_q;
             always @(posedge clk) begin
-                if (out_we_i && pin_i == p) out_q <= out_i;
+                if (out_we_i && pin_idx_i == p) out_q <= out_wdata_i;
                 if (rst) out_q <= 1'b0;
             end
             assign out_o[p] = out_q;
@@ -33,7 +33,7 @@ module bsd_cfg_regs #(
             end else begin : g_free
                 reg [4:0] cfg_q;
                 always @(posedge clk) begin
-                    if (cfg_we_i && pin_i == p) cfg_q <= cfg_i;
+                    if (cfg_we_i && pin_idx_i == p) cfg_q <= cfg_wdata_i;
                     if (rst) cfg_q <= CFG_RESET;
                 end
                 assign cfg_o[5*p +: 5] = cfg_q;

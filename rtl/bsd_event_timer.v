@@ -22,9 +22,9 @@ module bsd_event_timer (
     input  wire        host_done_i,  // the result's packet has left
     input  wire        rflx_done_i,  // the result's RFLX strobe is given
     output wire        busy_o,
-    output reg         host_req_o,
-    output reg         rflx_req_o,
-    output reg  [15:0] result_o
+    output wire        host_req_o,
+    output wire        rflx_req_o,
+    output wire [15:0] result_o
 );
     localparam [15:0] TIMEOUT_TICKS = 16'hFFFF;
     localparam [15:0] LAST_BEFORE   = TIMEOUT_TICKS - 16'd1;  // 65 534
@@ -47,21 +47,27 @@ module bsd_event_timer (
     reg        want_q;        // edge mode: TSTATE; width mode: its opposite
     reg        at_last_q;     // elapsed_q == 65 534: the next tick times out
     reg        count_zero_q;  // count_q == 0
+    reg        host_req_q;    // the result's host packet is requested
+    reg        rflx_req_q;    // the result's RFLX strobe is requested
+    reg [15:0] result_q;
 
     wire        at_target   = level_i == target_q;
     wire        pulse_begin = mode_q && !in_pulse_q && (prev_q != target_q) && at_target;
-    wire [15:0] elapsed_d   = elapsed_q + {15'd0, tick_i};
-    wire [15:0] count_d     = count_q + {15'd0, tick_i};
+    wire [15:0] elapsed_inc = elapsed_q + {15'd0, tick_i};
+    wire [15:0] count_inc   = count_q + {15'd0, tick_i};
     wire        complete    = running_q && armed_q && (level_i == want_q);
     // Flags instead of the adders' sums keep the carry chains off the
-    // enables: elapsed_d reaches 65 535 exactly when a tick comes at 65 534,
-    // and count_d is 0 exactly when count_q is 0 and no tick comes (the
+    // enables: elapsed_inc reaches 65 535 exactly when a tick comes at 65 534,
+    // and count_inc is 0 exactly when count_q is 0 and no tick comes (the
     // counts stop below 65 535, so neither wraps).
     wire        timeout     = running_q && tick_i && at_last_q;
     wire        count_zero  = !tick_i && count_zero_q;
     wire        finish      = complete || timeout;
 
-    assign busy_o = running_q || host_req_o || rflx_req_o;
+    assign busy_o     = running_q || host_req_q || rflx_req_q;
+    assign host_req_o = host_req_q;
+    assign rflx_req_o = rflx_req_q;
+    assign result_o   = result_q;
 
     // A start needs an idle timer (not running), so the start and running
     // branches below never meet; they are written apart so that finishing
@@ -90,27 +96,27 @@ module bsd_event_timer (
         end
         if (running_q) begin
             prev_q       <= level_i;
-            elapsed_q    <= elapsed_d;
-            count_q      <= pulse_begin ? 16'd0 : count_d;
+            elapsed_q    <= elapsed_inc;
+            count_q      <= pulse_begin ? 16'd0 : count_inc;
             count_zero_q <= pulse_begin || count_zero;
             if (pulse_begin) in_pulse_q <= 1'b1;
             // The result as it would be if the measurement ended now; the
             // clock it ends keeps it. Written on every running clock, so its
             // 16 enables are running_q, not the completion logic.
-            result_o     <= !complete ? 16'd0 : count_zero ? 16'd1 : count_d;
+            result_q     <= !complete ? 16'd0 : count_zero ? 16'd1 : count_inc;
         end
         if (finish) begin
             running_q  <= 1'b0;
-            host_req_o <= host_q;
-            rflx_req_o <= rflx_q;
+            host_req_q <= host_q;
+            rflx_req_q <= rflx_q;
         end
-        if (host_done_i) host_req_o <= 1'b0;
-        if (rflx_done_i) rflx_req_o <= 1'b0;
+        if (host_done_i) host_req_q <= 1'b0;
+        if (rflx_done_i) rflx_req_q <= 1'b0;
         if (rst) begin
             running_q  <= 1'b0;
-            host_req_o <= 1'b0;
-            rflx_req_o <= 1'b0;
-            result_o   <= 16'd0;
+            host_req_q <= 1'b0;
+            rflx_req_q <= 1'b0;
+            result_q   <= 16'd0;
         end
     end
 endmodule

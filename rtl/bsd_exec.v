@@ -5,16 +5,16 @@
 // heartbeat answer) into registers, so that those strobes leave this module
 // straight from flops. The second drives them and decides the reply or
 // message with the contract's precedence (cmdInvalid, cmdTooShort, the
-// command's own error, then the action and cmdTooLong). Packets come at
-// least three clocks apart, so the stages never overlap. Holds the one
-// waiting reply (a packet of up to 4 data bytes) and the one waiting DIG_IO
-// RFLX value.
+// command's own error, then the action and cmdTooLong), and whether a DIG_IO
+// read sends its value on RFLX. Packets come at least three clocks apart, so
+// the stages never overlap. The decision goes to bsd_reply_slot, which holds
+// the waiting reply and the waiting DIG_IO RFLX value and tells the parser
+// when to hold.
 module bsd_exec #(
     parameter integer        NUM_PINS    = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK  = 5'b11110,
     parameter [NUM_PINS-1:0] FIXED_MASK  = 0,
-    parameter integer        PIN_ID_BASE   = 5,
-    parameter integer        TIMER_ID_BASE = 10
+    parameter integer        PIN_ID_BASE = 5
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -29,13 +29,12 @@ module bsd_exec #(
     input  wire [5*NUM_PINS-1:0] cfg_i,
     input  wire [NUM_PINS-1:0]   level_i,
     input  wire [NUM_PINS-1:0]   timer_busy_i,
-    output wire                  hold_o,      // a packet that may need a slot must wait
     // configuration register file
     output wire                  cfg_we_o,
     output wire                  out_we_o,
-    output wire [5:0]            pin_o,
-    output wire [4:0]            cfg_o,
-    output wire                  out_o,
+    output wire [5:0]            pin_idx_o,     // the pin both writes address
+    output wire [4:0]            cfg_wdata_o,
+    output wire                  out_wdata_o,
     output wire [NUM_PINS-1:0]   rearm_o,
     // timers: start one, with the DEVCODE's delivery bits
     output wire [NUM_PINS-1:0]   timer_start_o,
@@ -44,17 +43,14 @@ module bsd_exec #(
     // heartbeat answer from the host
     output wire                  hb_answer_o,       // the host answered a heartbeat: type 2 (UP) or 3 (DOWN)
     output wire                  hb_answer_down_o,  // it answered a DOWN one
-    // the waiting reply: A, rep_n, rep_data[31:24] ...
-    output wire                  rep_req_o,
-    output reg  [2:0]            rep_n_o,
-    output reg  [31:0]           rep_data_o,
-    input  wire                  rep_done_i,
-    // the waiting DIG_IO RFLX value
-    output reg                   dio_rflx_req_o,
-    output reg  [5:0]            dio_rflx_id_o,
-    output reg                   dio_rflx_val_o,
-    output reg  [NUM_PINS-1:0]   dio_rflx_below_o,  // its device ID is below pin p's timer ID
-    input  wire                  dio_rflx_done_i
+    // stage 2's packet and decision, for bsd_reply_slot
+    output wire                  s2_valid_o,    // a packet is in stage 2
+    output wire                  reply_o,       // it has a reply: A, reply_n_o, reply_data_o[31:24] ...
+    output wire [2:0]            reply_n_o,
+    output wire [31:0]           reply_data_o,
+    output wire                  dio_rflx_o,    // it is a DIG_IO read that sends its value on RFLX
+    output wire [5:0]            dio_id_o,      // the DIG_IO pin's device ID
+    output wire                  dio_val_o      // and its level
 );
     `include "bsd_protocol.vh"
 
@@ -64,7 +60,7 @@ module bsd_exec #(
 
     // ------------------------------ stage 1: pin lookup and state-change decisions
     // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
-    wire [5:0] pin_in = pkt_d1_i[5:0];
+    wire [5:0] dev_pin = pkt_d1_i[5:0];
 
     // The addressed pin's state for stage 2's replies and messages.
     // Out-of-range pins read as zero; every use below is qualified by
@@ -80,7 +76,7 @@ module bsd_exec #(
         look_fixed      = 1'b0;
         look_has_timer  = 1'b0;
         for (i = 0; i < NUM_PINS; i = i + 1) begin
-            if (pin_in == i[5:0]) begin
+            if (dev_pin == i[5:0]) begin
                 look_cfg        = cfg_i[5*i +: 5];
                 look_level      = level_i[i];
                 look_fixed      = FIXED_MASK[i];
@@ -96,7 +92,7 @@ module bsd_exec #(
     wire n_ge2  = pkt_n_i >= 4'd2;
     wire n_ge3  = pkt_n_i >= 4'd3;
     wire pin_ok = pkt_d1_i < NUM_PINS_W;
-    wire dev_ok = {2'b00, pin_in} < NUM_PINS_W;
+    wire dev_ok = {2'b00, dev_pin} < NUM_PINS_W;
     wire c_cfg  = is_cmd && pkt_d0_i == CMD_DIG_CFG && n_ge3;   // a DIG_CFG write
     wire c_out  = is_cmd && pkt_d0_i == CMD_DIG_IO && n_ge3;    // a DIG_IO write
     wire c_rst  = is_cmd && pkt_d0_i == CMD_DIG_RST && n_ge2;
@@ -110,16 +106,16 @@ module bsd_exec #(
             do_cfg[q]   = c_cfg && pkt_d1_i == q[7:0] && !FIXED_MASK[q];
             do_out[q]   = c_out && pkt_d1_i == q[7:0] && !cfg_i[5*q + IODIR];
             do_rst[q]   = c_rst && pkt_d1_i == q[7:0];
-            do_start[q] = c_time && pin_in == q[5:0] && TIMER_MASK[q] && cfg_i[5*q + IODIR] &&
+            do_start[q] = c_time && dev_pin == q[5:0] && TIMER_MASK[q] && cfg_i[5*q + IODIR] &&
                           !timer_busy_i[q];
         end
     end
 
-    reg                s_valid_q;
+    reg                s2_valid_q;
     reg                probe_q, serial_q, cmd_q;
     reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_invalid_q;
     reg                n1_q, n2_q, n_gt2_q, n_gt3_q;
-    reg [7:0]          s_d1_q, s_d2_q;
+    reg [7:0]          s2_d1_q, s2_d2_q;
     reg                pin_ok_q, dev_ok_q;
     reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
     reg [4:0]          pin_cfg_q;
@@ -127,10 +123,9 @@ module bsd_exec #(
     reg                rst_ok_q;      // a DIG_RST re-arms
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q, start_q;
-    reg                reply_q;       // stage 2 chose a reply (below)
 
     always @(posedge clk) begin
-        s_valid_q       <= pkt_valid_i;
+        s2_valid_q      <= pkt_valid_i;
         probe_q         <= pkt_valid_i && pkt_kind_i == KIND_PROBE;
         serial_q        <= pkt_valid_i && pkt_kind_i == KIND_SERIAL;
         cmd_q           <= is_cmd;
@@ -144,11 +139,11 @@ module bsd_exec #(
         n2_q            <= pkt_n_i == 4'd2;
         n_gt2_q         <= pkt_n_i > 4'd2;
         n_gt3_q         <= pkt_n_i > 4'd3;
-        s_d1_q          <= pkt_d1_i;
-        s_d2_q          <= pkt_d2_i;
+        s2_d1_q         <= pkt_d1_i;
+        s2_d2_q         <= pkt_d2_i;
         pin_ok_q        <= pin_ok;
         dev_ok_q        <= dev_ok;
-        dev_id_q        <= PIN_ID_W + pin_in;
+        dev_id_q        <= PIN_ID_W + dev_pin;
         pin_cfg_q       <= look_cfg;
         pin_level_q     <= look_level;
         pin_fixed_q     <= look_fixed;
@@ -161,7 +156,7 @@ module bsd_exec #(
         rearm_q         <= do_cfg | do_rst;
         start_q         <= do_start;
         if (rst) begin
-            s_valid_q   <= 1'b0;
+            s2_valid_q  <= 1'b0;
             probe_q     <= 1'b0;
             serial_q    <= 1'b0;
             cmd_q       <= 1'b0;
@@ -175,8 +170,8 @@ module bsd_exec #(
     end
 
     // ---------------------------------------------------- stage 2: execute
-    wire       dev_host     = s_d1_q[7];
-    wire       dev_rflx     = s_d1_q[6];
+    wire       dev_host     = s2_d1_q[7];
+    wire       dev_rflx     = s2_d1_q[6];
     wire       pin_is_input = pin_cfg_q[IODIR];
 
     assign cfg_we_o      = cfg_we_q;
@@ -184,15 +179,16 @@ module bsd_exec #(
     assign rearm_o       = rearm_q;
     assign timer_start_o = start_q;
     assign hb_answer_o   = hb_answer_q;
-    assign pin_o         = s_d1_q[5:0];
-    assign cfg_o         = s_d2_q[4:0];
-    assign out_o         = s_d2_q != 8'd0;
+    assign pin_idx_o     = s2_d1_q[5:0];
+    assign cfg_wdata_o   = s2_d2_q[4:0];
+    assign out_wdata_o   = s2_d2_q != 8'd0;
     assign timer_host_o  = dev_host;
     assign timer_rflx_o  = dev_rflx;
-    assign hb_answer_down_o = s_d1_q[0];  // type 3, as hb_answer_o comes only for 2 and 3
+    assign hb_answer_down_o = s2_d1_q[0];  // type 3, as hb_answer_o comes only for 2 and 3
 
     // A DIG_IO read of an input pin with the RFLX bit: the same conditions as
-    // its reply below, written flat since they enable the RFLX slot.
+    // its reply below, written flat since they enable the RFLX slot
+    // (bsd_reply_slot).
     wire dio_rflx = cmd_q && is_io_q && n2_q && dev_ok_q && pin_is_input && dev_rflx;
 
     // The command changed state (each flag belongs to one command): check its length.
@@ -236,7 +232,7 @@ module bsd_exec #(
                 else if (n2_q) begin
                     reply      = 1'b1;
                     reply_n    = 3'd3;
-                    reply_data = {CMD_DIG_CFG, s_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
+                    reply_data = {CMD_DIG_CFG, s2_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
                 end else message(MSG_CONFIG_ERR);
             end else if (is_io_q) begin
                 // No write: a read, or a bad pin or an input pin for a write.
@@ -258,64 +254,12 @@ module bsd_exec #(
         end
     end
 
-    // The RFLX arbiter ranks the waiting DIG_IO value against the timers by
-    // device ID; comparing here, as the value is stored, keeps the
-    // comparators out of the arbiter's clock.
-    reg [NUM_PINS-1:0] below;
-    integer b;
-    always @* begin
-        for (b = 0; b < NUM_PINS; b = b + 1)
-            below[b] = dev_id_q < TIMER_ID_BASE[5:0] + b[5:0];
-    end
-
-    // Registers: the waiting reply and the waiting DIG_IO RFLX value. The
-    // parser never completes a packet that could need a slot while it is full
-    // (hold_o covers the clocks from the packet to its request).
-    //
-    // The slot takes stage 2's packet on every clock it is free, so its data
-    // enables never wait for the decision; the decision itself lands in a
-    // flop (reply_q), which is the request for one clock until the slot's own
-    // flag (rep_wait_q) takes over. The request thus rises when stage 2 ends,
-    // 3 clocks after the last byte, and comes from flops only.
-    reg rep_wait_q;
-    assign rep_req_o = reply_q || rep_wait_q;
-
-    // hold_o: a slot is full, or a packet is on its way through the stages
-    // and may fill one. pending_q is that condition for every stage after
-    // the first, worked out a clock ahead (from each flag's next value) so
-    // that hold_o, which gates the parser's s_axis_tready, is one gate.
-    reg  pending_q;
-    wire rep_wait_d = rep_req_o && !rep_done_i;
-    wire dio_req_d  = dio_rflx || (dio_rflx_req_o && !dio_rflx_done_i);
-    assign hold_o = pkt_valid_i || pending_q;
-
-    always @(posedge clk) begin
-        reply_q    <= reply;
-        rep_wait_q <= rep_wait_d;
-        pending_q  <= pkt_valid_i || reply || rep_wait_d || dio_req_d;
-        if (s_valid_q && !rep_req_o) begin
-            rep_n_o    <= reply_n;
-            rep_data_o <= reply_data;
-        end
-        if (dio_rflx_done_i) dio_rflx_req_o <= 1'b0;
-        if (dio_rflx) begin
-            dio_rflx_req_o   <= 1'b1;
-            dio_rflx_id_o    <= dev_id_q;
-            dio_rflx_val_o   <= pin_level_q;
-            dio_rflx_below_o <= below;
-        end
-        if (rst) begin
-            // The power-up message is the first packet out.
-            reply_q          <= 1'b0;
-            rep_wait_q       <= 1'b1;  // the power-up message waits
-            pending_q        <= 1'b1;
-            rep_n_o          <= 3'd2;
-            rep_data_o       <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
-            dio_rflx_req_o   <= 1'b0;
-            dio_rflx_id_o    <= 6'd0;
-            dio_rflx_val_o   <= 1'b0;
-            dio_rflx_below_o <= {NUM_PINS{1'b0}};
-        end
-    end
+    assign s2_valid_o   = s2_valid_q;
+    assign reply_o      = reply;
+    assign reply_n_o    = reply_n;
+    assign reply_data_o = reply_data;
+    assign dio_rflx_o   = dio_rflx;
+    assign dio_id_o     = dev_id_q;
+    assign dio_val_o    = pin_level_q;
 endmodule
 `default_nettype wire

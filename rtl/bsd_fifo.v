@@ -18,8 +18,8 @@ module bsd_fifo #(
     input  wire [WIDTH-1:0] s_axis_tdata,
     input  wire             s_axis_tvalid,
     output wire             s_axis_tready,
-    output reg  [WIDTH-1:0] m_axis_tdata,
-    output reg              m_axis_tvalid,
+    output wire [WIDTH-1:0] m_axis_tdata,
+    output wire             m_axis_tvalid,
     input  wire             m_axis_tready,
     output wire             empty_o        // nothing stored, output register included
 );
@@ -27,16 +27,20 @@ module bsd_fifo #(
 
 `ifndef SYNTHESIS
     initial begin
-        if (DEPTH < 2 || (1 << AW) != DEPTH) begin
-            $display("bsd_fifo: DEPTH %0d is not a power of two >= 2", DEPTH);
-            $finish;
-        end
+        if (DEPTH < 2 || (1 << AW) != DEPTH)
+            $fatal(1, "bsd_fifo: DEPTH = %0d must be a power of two, at least 2", DEPTH);
     end
 `endif
 
     reg [WIDTH-1:0] mem [0:DEPTH-1];
     reg [AW:0]      wr_q;  // one wrap bit above the address
     reg [AW:0]      rd_q;
+    // The output register.
+    reg [WIDTH-1:0] out_data_q;
+    reg             out_valid_q;
+
+    assign m_axis_tdata  = out_data_q;
+    assign m_axis_tvalid = out_valid_q;
 
     // Full and empty as flops, so that push and pop (the RAM's enables) do
     // not wait for pointer comparators; the comparators work out the next
@@ -44,7 +48,7 @@ module bsd_fifo #(
     reg  ram_empty_q;
     reg  ram_full_q;
     wire push      = s_axis_tvalid && !ram_full_q;
-    wire pop       = !ram_empty_q && (!m_axis_tvalid || m_axis_tready);
+    wire pop       = !ram_empty_q && (!out_valid_q || m_axis_tready);
     // One word from empty / full: a lone pop empties, a lone push fills.
     wire [AW:0] wr_inc    = wr_q + 1'b1;
     wire [AW:0] rd_inc    = rd_q + 1'b1;
@@ -52,7 +56,7 @@ module bsd_fifo #(
     wire        one_free  = (wr_inc == {~rd_q[AW], rd_q[AW-1:0]});
 
     assign s_axis_tready = !ram_full_q;
-    assign empty_o       = ram_empty_q && !m_axis_tvalid;
+    assign empty_o       = ram_empty_q && !out_valid_q;
 
     // RAM ports: no reset, so they map onto block RAM.
     always @(posedge clk) begin
@@ -60,7 +64,7 @@ module bsd_fifo #(
     end
 
     always @(posedge clk) begin
-        if (pop) m_axis_tdata <= mem[rd_q[AW-1:0]];
+        if (pop) out_data_q <= mem[rd_q[AW-1:0]];
     end
 
     always @(posedge clk) begin
@@ -74,14 +78,14 @@ module bsd_fifo #(
             ram_full_q  <= 1'b0;
             ram_empty_q <= one_left;
         end
-        if (pop) m_axis_tvalid <= 1'b1;
-        else if (m_axis_tready) m_axis_tvalid <= 1'b0;
+        if (pop) out_valid_q <= 1'b1;
+        else if (m_axis_tready) out_valid_q <= 1'b0;
         if (rst) begin
-            wr_q          <= {(AW + 1){1'b0}};
-            rd_q          <= {(AW + 1){1'b0}};
-            ram_empty_q   <= 1'b1;
-            ram_full_q    <= 1'b0;
-            m_axis_tvalid <= 1'b0;
+            wr_q        <= {(AW + 1){1'b0}};
+            rd_q        <= {(AW + 1){1'b0}};
+            ram_empty_q <= 1'b1;
+            ram_full_q  <= 1'b0;
+            out_valid_q <= 1'b0;
         end
     end
 endmodule

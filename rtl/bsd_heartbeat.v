@@ -11,10 +11,10 @@ module bsd_heartbeat #(
     input  wire       tick_i,
     input  wire       answer_i,       // a host cmdHB answer (N >= 2, type UP or DOWN + 2)
     input  wire       answer_down_i,  // it answers a DOWN heartbeat
-    output reg        req_o,       // a heartbeat packet waits to be sent
-    output wire [7:0] type_o,      // its type byte
-    input  wire       done_i,      // it has left
-    output reg        link_up_o
+    output wire       req_o,          // a heartbeat packet waits to be sent
+    output wire [7:0] type_o,         // its type byte
+    input  wire       done_i,         // it has left
+    output wire       link_up_o
 );
     `include "bsd_protocol.vh"
 
@@ -28,13 +28,17 @@ module bsd_heartbeat #(
     reg         down_q;      // type of the latest heartbeat: 0 UP, 1 DOWN
     reg         queued_q;    // a heartbeat has been queued since reset
     reg         answered_q;  // the latest one is answered
+    reg         req_q;       // a heartbeat packet waits to be sent
+    reg         link_up_q;
 
     wire due      = (HB_RATE != 0) && tick_i && at_end_q;
     // The answer must match the latest heartbeat's type.
     wire answer   = answer_i && queued_q && answer_down_i == down_q;
     wire answered = answered_q || answer;
 
-    assign type_o = {7'd0, down_q};
+    assign req_o     = req_q;
+    assign type_o    = {7'd0, down_q};
+    assign link_up_o = link_up_q;
 
     always @(posedge clk) begin
         if (tick_i) begin
@@ -42,15 +46,15 @@ module bsd_heartbeat #(
             // From the register, not the sum: the comparator stays off `due`.
             at_end_q <= !due && ticks_q == LAST_BEFORE[W-1:0];
         end
-        if (done_i) req_o <= 1'b0;
+        if (done_i) req_q <= 1'b0;
         if (answer) begin
             answered_q <= 1'b1;
-            link_up_o  <= 1'b1;
+            link_up_q  <= 1'b1;
         end
         if (due) begin
-            if (!answered || req_o) link_up_o <= 1'b0;
-            if (!req_o) begin
-                req_o      <= 1'b1;
+            if (!answered || req_q) link_up_q <= 1'b0;
+            if (!req_q) begin
+                req_q      <= 1'b1;
                 down_q     <= queued_q ? !down_q : 1'b0;
                 queued_q   <= 1'b1;
                 answered_q <= 1'b0;
@@ -59,11 +63,11 @@ module bsd_heartbeat #(
         if (rst) begin
             ticks_q    <= {W{1'b0}};
             at_end_q   <= 1'b0;
-            req_o      <= 1'b0;
+            req_q      <= 1'b0;
             down_q     <= 1'b0;
             queued_q   <= 1'b0;
             answered_q <= 1'b0;
-            link_up_o  <= 1'b0;
+            link_up_q  <= 1'b0;
         end
     end
 endmodule

@@ -34,9 +34,9 @@ module bsd_msg_merge #(
     reg       msg_q;    // the message is part-way out (or offered)
     reg [1:0] idx_q;    // message byte being offered
 
-    wire start = req_i && !mid_q && !stall_q && !msg_q;
-    wire msg   = msg_q || start;
-    wire last  = (idx_q == 2'd3);
+    wire start    = req_i && !mid_q && !stall_q && !msg_q;
+    wire msg      = msg_q || start;         // the message is offered now
+    wire msg_last = (idx_q == 2'd3);        // its byte offered is its last
 
     reg [7:0] msg_byte;
     always @* begin
@@ -50,14 +50,14 @@ module bsd_msg_merge #(
 
     assign m_axis_tdata  = msg ? msg_byte : s_axis_tdata;
     assign m_axis_tvalid = msg || s_axis_tvalid;
-    assign m_axis_tlast  = msg ? last : s_axis_tlast;
+    assign m_axis_tlast  = msg ? msg_last : s_axis_tlast;
     assign s_axis_tready = !msg && m_axis_tready;
-    assign done_o        = msg && m_axis_tready && last;
+    assign done_o        = msg && m_axis_tready && msg_last;
 
     always @(posedge clk) begin
         stall_q <= !msg && s_axis_tvalid && !m_axis_tready;
         if (msg) begin
-            msg_q <= !(m_axis_tready && last);
+            msg_q <= !(m_axis_tready && msg_last);
             if (m_axis_tready) idx_q <= idx_q + 1'b1;
         end else if (s_axis_tvalid && m_axis_tready) begin
             mid_q <= !s_axis_tlast;
@@ -65,8 +65,8 @@ module bsd_msg_merge #(
         if (rst) begin
             mid_q   <= 1'b0;
             stall_q <= 1'b0;
-            msg_q <= 1'b0;
-            idx_q <= 2'd0;
+            msg_q   <= 1'b0;
+            idx_q   <= 2'd0;
         end
     end
 endmodule

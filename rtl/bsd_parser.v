@@ -15,12 +15,12 @@ module bsd_parser #(
     input  wire [7:0] s_axis_tdata,
     input  wire       s_axis_tvalid,
     output wire       s_axis_tready,
-    output reg        pkt_valid_o,
-    output reg  [1:0] pkt_kind_o,
-    output reg  [3:0] pkt_n_o,
-    output reg  [7:0] pkt_d0_o,
-    output reg  [7:0] pkt_d1_o,
-    output reg  [7:0] pkt_d2_o
+    output wire       pkt_valid_o,
+    output wire [1:0] pkt_kind_o,
+    output wire [3:0] pkt_n_o,
+    output wire [7:0] pkt_d0_o,
+    output wire [7:0] pkt_d1_o,
+    output wire [7:0] pkt_d2_o
 );
     `include "bsd_protocol.vh"
 
@@ -44,6 +44,18 @@ module bsd_parser #(
     reg           last_q;   // the next data byte is the packet's last
     reg           stop_q;   // the next byte waits while hold_i (below)
     reg  [TW-1:0] idle_q;
+    // The packet handed to the executor.
+    reg           pkt_valid_q;
+    reg  [1:0]    pkt_kind_q;
+    reg  [3:0]    pkt_n_q;
+    reg  [7:0]    pkt_d0_q, pkt_d1_q, pkt_d2_q;
+
+    assign pkt_valid_o = pkt_valid_q;
+    assign pkt_kind_o  = pkt_kind_q;
+    assign pkt_n_o     = pkt_n_q;
+    assign pkt_d0_o    = pkt_d0_q;
+    assign pkt_d1_o    = pkt_d1_q;
+    assign pkt_d2_o    = pkt_d2_q;
 
     // Flow control. A packet that can need the reply slot is handed over only
     // while the slot is free and no packet is being executed (hold_i 0), so
@@ -71,17 +83,17 @@ module bsd_parser #(
     reg  [1:0] state_d;
     reg        own_d, probe_d, last_d;
     reg  [3:0] cnt_d;
-    reg        valid_d;
-    reg  [1:0] kind_d;
+    reg        pkt_valid_d;
+    reg  [1:0] pkt_kind_d;
 
     always @* begin
-        state_d = state_q;
-        own_d   = own_q;
-        probe_d = probe_q;
-        cnt_d   = cnt_q;
-        last_d  = last_q;
-        valid_d = hand_over;
-        kind_d  = pkt_kind_o;
+        state_d     = state_q;
+        own_d       = own_q;
+        probe_d     = probe_q;
+        cnt_d       = cnt_q;
+        last_d      = last_q;
+        pkt_valid_d = hand_over;
+        pkt_kind_d  = pkt_kind_q;
         if (hand_over) state_d = ST_ADDR;
         if (expired) begin
             state_d = ST_ADDR;
@@ -96,11 +108,11 @@ module bsd_parser #(
                     cnt_d  = 4'd0;
                     last_d = s_axis_tdata == 8'd1;
                     if (own_q && len_over) begin
-                        kind_d  = KIND_SERIAL;
-                        state_d = ST_PEND;
+                        pkt_kind_d = KIND_SERIAL;
+                        state_d    = ST_PEND;
                     end else if (probe_q && len_zero) begin
-                        kind_d  = KIND_PROBE;
-                        state_d = ST_PEND;
+                        pkt_kind_d = KIND_PROBE;
+                        state_d    = ST_PEND;
                     end else if (len_over || len_zero) begin
                         state_d = ST_ADDR;
                     end else begin
@@ -109,11 +121,11 @@ module bsd_parser #(
                 end
                 default: begin
                     cnt_d  = cnt_q + 4'd1;
-                    last_d = cnt_q + 4'd2 == pkt_n_o;
+                    last_d = cnt_q + 4'd2 == pkt_n_q;
                     if (last_q) begin
-                        valid_d = own_q;
-                        kind_d  = KIND_CMD;
-                        state_d = ST_ADDR;
+                        pkt_valid_d = own_q;
+                        pkt_kind_d  = KIND_CMD;
+                        state_d     = ST_ADDR;
                     end
                 end
             endcase
@@ -127,22 +139,22 @@ module bsd_parser #(
         cnt_q       <= cnt_d;
         last_q      <= last_d;
         stop_q      <= (state_d == ST_DATA && own_d && last_d) || state_d == ST_PEND;
-        pkt_valid_o <= valid_d;
-        pkt_kind_o  <= kind_d;
+        pkt_valid_q <= pkt_valid_d;
+        pkt_kind_q  <= pkt_kind_d;
         if (accept) idle_q <= {TW{1'b0}};
         else if (waiting && tick_i) idle_q <= idle_q + 1'b1;
 
         // The packet's N and first data bytes take the offered byte whether or
         // not it is accepted, so s_axis_tready stays off these enables: a held
         // byte stays offered unchanged (AXI-Stream), and the executor reads
-        // them only on pkt_valid_o's clock, when the parser waits for an
+        // them only on pkt_valid_q's clock, when the parser waits for an
         // address byte and so writes none of them.
-        if (s_axis_tvalid && state_q == ST_LEN) pkt_n_o <= s_axis_tdata[3:0];
+        if (s_axis_tvalid && state_q == ST_LEN) pkt_n_q <= s_axis_tdata[3:0];
         if (s_axis_tvalid && state_q == ST_DATA) begin
             case (cnt_q)
-                4'd0:    pkt_d0_o <= s_axis_tdata;
-                4'd1:    pkt_d1_o <= s_axis_tdata;
-                4'd2:    pkt_d2_o <= s_axis_tdata;
+                4'd0:    pkt_d0_q <= s_axis_tdata;
+                4'd1:    pkt_d1_q <= s_axis_tdata;
+                4'd2:    pkt_d2_q <= s_axis_tdata;
                 default: ;
             endcase
         end
@@ -155,12 +167,12 @@ module bsd_parser #(
             last_q      <= 1'b0;
             stop_q      <= 1'b0;
             idle_q      <= {TW{1'b0}};
-            pkt_valid_o <= 1'b0;
-            pkt_kind_o  <= KIND_CMD;
-            pkt_n_o     <= 4'd0;
-            pkt_d0_o    <= 8'd0;
-            pkt_d1_o    <= 8'd0;
-            pkt_d2_o    <= 8'd0;
+            pkt_valid_q <= 1'b0;
+            pkt_kind_q  <= KIND_CMD;
+            pkt_n_q     <= 4'd0;
+            pkt_d0_q    <= 8'd0;
+            pkt_d1_q    <= 8'd0;
+            pkt_d2_q    <= 8'd0;
         end
     end
 endmodule

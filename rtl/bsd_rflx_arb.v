@@ -1,6 +1,6 @@
 `default_nettype none
 // RFLX strobes: every clock, the waiting value with the lowest device ID is
-// strobed on rflx_* (registered), and its source is told at once. Timer
+// strobed on rflx_*_o (registered), and its source is told at once. Timer
 // device IDs rise with the pin, so the lowest waiting timer is the lowest pin.
 module bsd_rflx_arb #(
     parameter integer NUM_PINS      = 5,
@@ -15,10 +15,10 @@ module bsd_rflx_arb #(
     output wire                   dio_done_o,
     input  wire [NUM_PINS-1:0]    timer_req_i,
     input  wire [16*NUM_PINS-1:0] timer_result_i,
-    output reg  [NUM_PINS-1:0]    timer_done_o,
-    output reg                    rflx_valid,
-    output reg  [5:0]             rflx_id,
-    output reg  [15:0]            rflx_data
+    output wire [NUM_PINS-1:0]    timer_done_o,
+    output wire                   rflx_valid_o,
+    output wire [5:0]             rflx_id_o,
+    output wire [15:0]            rflx_data_o
 );
     // The lowest waiting timer (lowest pin).
     reg                t_any;
@@ -47,16 +47,24 @@ module bsd_rflx_arb #(
     // needs no priority chain.
     wire pick_dio = dio_req_i && !(|(timer_req_i & ~dio_below_i));
     assign dio_done_o = pick_dio;
-    always @* timer_done_o = t_onehot & ~({NUM_PINS{dio_req_i}} & dio_below_i);
+    assign timer_done_o = t_onehot & ~({NUM_PINS{dio_req_i}} & dio_below_i);
+
+    reg        rflx_valid_q;
+    reg [5:0]  rflx_id_q;
+    reg [15:0] rflx_data_q;
+
+    assign rflx_valid_o = rflx_valid_q;
+    assign rflx_id_o    = rflx_id_q;
+    assign rflx_data_o  = rflx_data_q;
 
     always @(posedge clk) begin
-        rflx_valid <= pick_dio || t_any;
-        rflx_id    <= pick_dio ? dio_id_i : t_id;
-        rflx_data  <= pick_dio ? {15'd0, dio_val_i} : t_result;
+        rflx_valid_q <= pick_dio || t_any;
+        rflx_id_q    <= pick_dio ? dio_id_i : t_id;
+        rflx_data_q  <= pick_dio ? {15'd0, dio_val_i} : t_result;
         if (rst) begin
-            rflx_valid <= 1'b0;
-            rflx_id    <= 6'd0;
-            rflx_data  <= 16'd0;
+            rflx_valid_q <= 1'b0;
+            rflx_id_q    <= 6'd0;
+            rflx_data_q  <= 16'd0;
         end
     end
 endmodule

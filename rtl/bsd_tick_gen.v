@@ -9,8 +9,11 @@ module bsd_tick_gen #(
 ) (
     input  wire clk,
     input  wire rst,
-    output reg  tick_o
+    output wire tick_o
 );
+    reg tick_q;
+    assign tick_o = tick_q;
+
     function integer gcd(input integer a, input integer b);
         integer x, y, t, i;
         begin
@@ -28,12 +31,11 @@ module bsd_tick_gen #(
         end
     endfunction
 
-
     generate
         if (RATE_HZ == 0) begin : g_every_clock
             always @(posedge clk) begin
-                tick_o <= 1'b1;
-                if (rst) tick_o <= 1'b0;
+                tick_q <= 1'b1;
+                if (rst) tick_q <= 1'b0;
             end
         end else begin : g_accumulator
             localparam integer G   = gcd(CLK_HZ, RATE_HZ);
@@ -50,19 +52,19 @@ module bsd_tick_gen #(
 
             always @(posedge clk) begin
                 acc_q  <= wrap ? sum - MOD_W : sum;
-                tick_o <= wrap;
+                tick_q <= wrap;
                 if (rst) begin
                     acc_q  <= {W{1'b0}};
-                    tick_o <= 1'b0;
+                    tick_q <= 1'b0;
                 end
             end
 
+`ifndef SYNTHESIS
             initial begin
-                if (RATE_HZ > CLK_HZ) begin
-                    $display("bsd_tick_gen: RATE_HZ %0d above CLK_HZ %0d", RATE_HZ, CLK_HZ);
-                    $finish;
-                end
+                if (RATE_HZ > CLK_HZ)
+                    $fatal(1, "bsd_tick_gen: RATE_HZ = %0d must be at most CLK_HZ = %0d", RATE_HZ, CLK_HZ);
             end
+`endif
         end
     endgenerate
 endmodule

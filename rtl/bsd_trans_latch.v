@@ -12,16 +12,19 @@ module bsd_trans_latch (
     input  wire input_i,   // DIGCFG IODIR: the latch only watches inputs
     input  wire sample_i,  // POLL_HZ strobe
     input  wire level_i,   // synchronized pad level
-    output reg  fire_o     // one-clock pulse
+    output wire fire_o     // one-clock pulse
 );
     reg armed_q;
     reg prev_q;
+    reg fire_q;
 
     wire active = armed_q && ena_i && input_i && sample_i;
     wire fire   = active && (level_i != prev_q) && (level_i == trg_i);
 
+    assign fire_o = fire_q;
+
     always @(posedge clk) begin
-        fire_o <= 1'b0;
+        fire_q <= 1'b0;
         if (arm_i) begin
             armed_q <= 1'b1;
             prev_q  <= level_i;
@@ -29,13 +32,13 @@ module bsd_trans_latch (
             prev_q <= level_i;
             if (fire) begin
                 armed_q <= 1'b0;
-                fire_o  <= 1'b1;
+                fire_q  <= 1'b1;
             end
         end
         if (rst) begin
             armed_q <= 1'b0;
             prev_q  <= 1'b0;
-            fire_o  <= 1'b0;
+            fire_q  <= 1'b0;
         end
     end
 endmodule

@@ -21,7 +21,7 @@ module bsd_tx #(
     input  wire [K-1:0]    req_i,
     input  wire [3*K-1:0]  n_i,
     input  wire [32*K-1:0] data_i,   // source s: data_i[32*s+24 +: 8] is d0
-    output reg  [K-1:0]    done_o,
+    output wire [K-1:0]    done_o,
     output wire [7:0]      m_axis_tdata,
     output wire            m_axis_tvalid,
     input  wire            m_axis_tready,
@@ -43,9 +43,8 @@ module bsd_tx #(
     reg  [K-1:0] done_q;   // sources whose request falls this clock
 
     wire [K-1:0] gnt;
-    wire last  = last_q;
     wire hs    = valid_q && m_axis_tready;
-    wire load  = next_valid_q && (!valid_q || (hs && last));
+    wire load  = next_valid_q && (!valid_q || (hs && last_q));
     // The staging register samples the arbiter whenever it is free: its
     // enable never waits for the grant.
     wire stage = !next_valid_q || load;
@@ -71,8 +70,11 @@ module bsd_tx #(
                 sel_data = sel_data | data_i[32*s +: 32];
             end
         end
-        done_o = (hs && last) ? cur_q : {K{1'b0}};
     end
+
+    // The sources whose packet's last byte leaves now.
+    wire [K-1:0] done = (hs && last_q) ? cur_q : {K{1'b0}};
+    assign done_o = done;
 
     always @(posedge clk) begin
         if (load) begin
@@ -85,7 +87,7 @@ module bsd_tx #(
             buf_q   <= {buf_q[39:0], 8'd0};
             left_q  <= left_q - 3'd1;
             last_q  <= left_q == 3'd2;
-            if (last) begin
+            if (last_q) begin
                 valid_q <= 1'b0;
                 cur_q   <= {K{1'b0}};
             end
@@ -94,7 +96,7 @@ module bsd_tx #(
             next_src_q   <= gnt;
             next_valid_q <= |gnt;
         end
-        done_q <= done_o;
+        done_q <= done;
         if (rst) begin
             buf_q        <= 48'd0;
             left_q       <= 3'd0;
@@ -109,6 +111,6 @@ module bsd_tx #(
 
     assign m_axis_tdata  = buf_q[47:40];
     assign m_axis_tvalid = valid_q;
-    assign m_axis_tlast  = last;
+    assign m_axis_tlast  = last_q;
 endmodule
 `default_nettype wire

@@ -75,7 +75,7 @@ DIV = (P.clk_hz + BAUD // 2) // BAUD  # clocks per bit, as the RTL rounds it
 PERIOD_PS = round(1e12 / P.clk_hz)
 BIT_PS = DIV * PERIOD_PS
 FRAME_PS = 10 * BIT_PS
-FIFO_LATENCY = 3  # clocks from uart_rx's valid_o to the core taking the byte (FIFO empty)
+FIFO_LATENCY = 3  # clocks from bsd_uart_rx's valid_o to the core taking the byte (FIFO empty)
 
 
 def hexs(data) -> str:
@@ -176,7 +176,7 @@ class Host:
 
 
 class Strobes:
-    """Times of one-clock strobes of the DUT: frame_err, rx_overflow, and uart_rx's valid_o
+    """Times of one-clock strobes of the DUT: frame_err, rx_overflow, and bsd_uart_rx's valid_o
     with the byte and whether the FIFO dropped it. Also counts overflow bursts as the
     wrapper defines them: a dropped byte starts one unless no byte was dropped since the
     RX FIFO was last empty (the FIFO's empty_o)."""

@@ -1,7 +1,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // Self-checking long-run check of bsd_tick_gen: no drift over CLOCKS clocks
-// (default CLK_HZ clocks = 1 s of clk time). tb/test_tick_drift.py runs it
+// (default CLK_HZ clocks = 1 s of clk time). tb/bsd_tick_gen/test_bsd_tick_gen_drift.py runs it
 // on both simulators (the Verilator build uses --binary).
 //
 // Edge 0 is the rising edge at which rst is last sampled 1; edge n is the n-th

@@ -25,8 +25,9 @@ import random
 import re
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Iterator, Mapping, Sequence
 from xml.etree import ElementTree
 
 from cocotb_tools.runner import get_runner
@@ -133,6 +134,15 @@ def rtl_sources() -> list[Path]:
     return sorted(RTL.glob("*.v"))
 
 
+@contextmanager
+def build_lock(build_dir: Path) -> Iterator[Path]:
+    """Create `build_dir` and hold its file lock: one build of a folder at a time."""
+    build_dir.mkdir(parents=True, exist_ok=True)
+    with open(build_dir / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield build_dir
+
+
 def build(
     sim: str,
     toplevel: str,
@@ -146,7 +156,6 @@ def build(
     waves = os.environ.get("WAVES", "0") == "1"
     folder = f"{sim}-{name or build_name(parameters)}{'-waves' if waves else ''}"
     build_dir = BUILD / toplevel / folder
-    build_dir.mkdir(parents=True, exist_ok=True)
     runner = get_runner(sim)
     build_args: list[str] = []
     if sim == "verilator":
@@ -154,8 +163,7 @@ def build(
         # cocotb's runner adds --trace (a VCD) for waves; FST where lz4's header exists.
         if waves and _have_lz4():
             build_args.append("--trace-fst")
-    with open(build_dir / ".lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with build_lock(build_dir):
         _claim(build_dir, parameters)
         t0 = time.time()
         runner.build(

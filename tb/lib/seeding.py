@@ -10,7 +10,7 @@ import cocotb
 
 def make_rng(dut, name: str) -> random.Random:
     """Per-test RNG. cocotb derives cocotb.RANDOM_SEED from the regression seed
-    (COCOTB_RANDOM_SEED, chosen and printed by tb/test_blocks.py) and the test name."""
+    (COCOTB_RANDOM_SEED, chosen and printed by tb/lib/runner.py) and the test name."""
     regression_seed = os.environ.get("COCOTB_RANDOM_SEED", "?")
     dut._log.info("%s: rerun with COCOTB_RANDOM_SEED=%s", name, regression_seed)
     return random.Random(cocotb.RANDOM_SEED)

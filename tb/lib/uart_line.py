@@ -1,4 +1,5 @@
-"""Serial-line helpers for the UART tests (tb/uart_tests.py, tb/uart_link_tests.py).
+# SPDX-License-Identifier: Apache-2.0
+"""Serial-line helpers for the UART tests (tb/bsd_uart_rx/, tb/bsd_uart_tx/, tb/brainstem_dio_uart/).
 
 - `LineMonitor`: a strict 8N1 receiver for a DUT's TX line. cocotbext-uart's UartSink does
   not check the stop bit (GUIDE.md), so this one does: it samples the start bit, the 8 data

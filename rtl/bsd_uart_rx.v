@@ -12,20 +12,20 @@
 // 9 stop), and valid_o / frame_err_o are set on the stop bit's sample edge.
 // DIV = CLK_HZ / BAUD rounded to whole clocks (12 MHz / 115200: 104, the
 // bit 0.16 % short; a sender up to about 4 % off either way is read right).
-module uart_rx #(
+module bsd_uart_rx #(
     parameter integer CLK_HZ = 48_000_000,
     parameter integer BAUD   = 9600
 ) (
     input  wire       clk,
     input  wire       rst,
     input  wire       rx_i,         // serial line, asynchronous to clk, idle high
-    output reg  [7:0] data_o,       // the byte of the latest valid_o
-    output reg        valid_o,      // one-clock strobe: a good byte in data_o
-    output reg        frame_err_o   // one-clock strobe: a byte with a bad stop bit was dropped
+    output wire [7:0] data_o,       // the byte of the latest valid_o
+    output wire       valid_o,      // one-clock strobe: a good byte in data_o
+    output wire       frame_err_o   // one-clock strobe: a byte with a bad stop bit was dropped
 );
     localparam integer DIV  = (CLK_HZ + BAUD / 2) / BAUD;  // clocks per bit
     localparam integer HALF = DIV / 2;                     // start edge to mid start bit
-    localparam integer CW   = $clog2(DIV);
+    localparam integer CW   = $clog2(DIV < 2 ? 2 : DIV);  // >= 1 bit, so a bad DIV reaches the check
     localparam [CW-1:0] BIT_RELOAD  = DIV[CW-1:0] - 1'b1;
     localparam [CW-1:0] HALF_RELOAD = HALF[CW-1:0] - 1'b1;
 
@@ -38,10 +38,9 @@ module uart_rx #(
 `ifndef SYNTHESIS
     initial begin
         // A start bit must be confirmed at least a few clocks after its edge.
-        if (DIV < 8) begin
-            $display("uart_rx: CLK_HZ / BAUD = %0d, need at least 8", DIV);
-            $finish;
-        end
+        if (DIV < 8)
+            $fatal(1, "bsd_uart_rx: CLK_HZ / BAUD = %0d / %0d = %0d clocks per bit, must be at least 8",
+                   CLK_HZ, BAUD, DIV);
     end
 `endif
 
@@ -54,14 +53,21 @@ module uart_rx #(
     reg [CW-1:0] cnt_q;    // clocks to the next sample point, minus 1
     reg [2:0]    bit_q;    // data bit being received
     reg [7:0]    shift_q;  // data bits so far, the newest in bit 7
+    reg [7:0]    data_q;
+    reg          valid_q;
+    reg          frame_err_q;
+
+    assign data_o      = data_q;
+    assign valid_o     = valid_q;
+    assign frame_err_o = frame_err_q;
 
     wire sample = (cnt_q == {CW{1'b0}});
 
     always @(posedge clk) begin
         meta_q      <= rx_i;
         rx_q        <= meta_q;
-        valid_o     <= 1'b0;
-        frame_err_o <= 1'b0;
+        valid_q     <= 1'b0;
+        frame_err_q <= 1'b0;
         if (!sample) cnt_q <= cnt_q - 1'b1;
 
         case (state_q)
@@ -90,11 +96,11 @@ module uart_rx #(
             ST_STOP: begin
                 if (sample) begin
                     if (rx_q) begin
-                        data_o  <= shift_q;
-                        valid_o <= 1'b1;
+                        data_q  <= shift_q;
+                        valid_q <= 1'b1;
                         state_q <= ST_IDLE;
                     end else begin
-                        frame_err_o <= 1'b1;
+                        frame_err_q <= 1'b1;
                         state_q     <= ST_BREAK;
                     end
                 end
@@ -111,9 +117,9 @@ module uart_rx #(
             cnt_q       <= {CW{1'b0}};
             bit_q       <= 3'd0;
             shift_q     <= 8'd0;
-            data_o      <= 8'd0;
-            valid_o     <= 1'b0;
-            frame_err_o <= 1'b0;
+            data_q      <= 8'd0;
+            valid_q     <= 1'b0;
+            frame_err_q <= 1'b0;
         end
     end
 endmodule

@@ -5,7 +5,7 @@
 // byte, no idle clock between frames). tx_o and s_axis_tready come straight
 // from flops, so the source's handshake logic starts at a register.
 // The bit period is CLK_HZ / BAUD rounded to whole clocks.
-module uart_tx #(
+module bsd_uart_tx #(
     parameter integer CLK_HZ = 48_000_000,
     parameter integer BAUD   = 9600
 ) (
@@ -14,18 +14,17 @@ module uart_tx #(
     input  wire [7:0] s_axis_tdata,
     input  wire       s_axis_tvalid,
     output wire       s_axis_tready,
-    output reg        tx_o           // serial line, idle high
+    output wire       tx_o           // serial line, idle high
 );
     localparam integer DIV = (CLK_HZ + BAUD / 2) / BAUD;  // clocks per bit
-    localparam integer CW  = $clog2(DIV);
+    localparam integer CW  = $clog2(DIV < 2 ? 2 : DIV);  // >= 1 bit, so a bad DIV reaches the check
     localparam [CW-1:0] BIT_RELOAD = DIV[CW-1:0] - 1'b1;
 
 `ifndef SYNTHESIS
     initial begin
-        if (DIV < 2) begin
-            $display("uart_tx: CLK_HZ / BAUD = %0d, need at least 2", DIV);
-            $finish;
-        end
+        if (DIV < 2)
+            $fatal(1, "bsd_uart_tx: CLK_HZ / BAUD = %0d / %0d = %0d clocks per bit, must be at least 2",
+                   CLK_HZ, BAUD, DIV);
     end
 `endif
 
@@ -35,6 +34,9 @@ module uart_tx #(
     // Always equal to (idle || last clock of the stop bit), computed a clock
     // ahead from the next values of left_q and cnt_q.
     reg          ready_q;
+    reg          tx_q;
+
+    assign tx_o = tx_q;
 
     localparam [CW-1:0] CNT_ONE = {{(CW - 1){1'b0}}, 1'b1};
 
@@ -46,7 +48,7 @@ module uart_tx #(
     always @(posedge clk) begin
         if (busy) begin
             if (bit_end) begin
-                tx_o    <= shift_q[0];
+                tx_q    <= shift_q[0];
                 shift_q <= {1'b1, shift_q[8:1]};
                 left_q  <= left_q - 1'b1;
                 cnt_q   <= BIT_RELOAD;
@@ -58,14 +60,14 @@ module uart_tx #(
             end
         end
         if (s_axis_tvalid && s_axis_tready) begin
-            tx_o    <= 1'b0;  // start bit
+            tx_q    <= 1'b0;  // start bit
             shift_q <= {1'b1, s_axis_tdata};
             left_q  <= 4'd10;
             cnt_q   <= BIT_RELOAD;
             ready_q <= 1'b0;
         end
         if (rst) begin
-            tx_o    <= 1'b1;
+            tx_q    <= 1'b1;
             shift_q <= 9'h1FF;
             left_q  <= 4'd0;
             cnt_q   <= {CW{1'b0}};

@@ -1,0 +1,109 @@
+`default_nettype none
+// The executor's two slots and the parser's hold. The reply slot keeps the
+// one waiting reply or message (a packet of up to 4 data bytes) for bsd_tx;
+// the RFLX slot keeps the one waiting DIG_IO RFLX value for bsd_rflx_arb.
+// The parser never completes a packet that could need a slot while it is
+// full: hold_o covers the clocks from the packet to its request.
+//
+// The reply slot takes stage 2's packet on every clock it is free, so its
+// data enables never wait for the decision; the decision itself lands in a
+// flop (reply_q), which is the request for one clock until the slot's own
+// flag (rep_wait_q) takes over. The request thus rises when stage 2 ends,
+// 3 clocks after the last byte, and comes from flops only. After reset the
+// slot holds the power-up message, the first packet out.
+module bsd_reply_slot #(
+    parameter integer NUM_PINS      = 5,
+    parameter integer TIMER_ID_BASE = 10
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                pkt_valid_i,   // the parser hands a packet to the executor
+    // the executor's stage 2 (bsd_exec)
+    input  wire                s2_valid_i,    // a packet is in stage 2
+    input  wire                reply_i,       // it has a reply
+    input  wire [2:0]          reply_n_i,
+    input  wire [31:0]         reply_data_i,
+    input  wire                dio_rflx_i,    // it sends a DIG_IO value on RFLX
+    input  wire [5:0]          dio_id_i,
+    input  wire                dio_val_i,
+    // to the parser: a packet that may need a slot must wait
+    output wire                hold_o,
+    // the waiting reply, to bsd_tx: A, rep_n_o, rep_data_o[31:24] ...
+    output wire                rep_req_o,
+    output wire [2:0]          rep_n_o,
+    output wire [31:0]         rep_data_o,
+    input  wire                rep_done_i,
+    // the waiting DIG_IO RFLX value, to bsd_rflx_arb
+    output wire                dio_req_o,
+    output wire [5:0]          dio_id_o,
+    output wire                dio_val_o,
+    output wire [NUM_PINS-1:0] dio_below_o,   // its device ID is below pin p's timer ID
+    input  wire                dio_done_i
+);
+    `include "bsd_protocol.vh"
+
+    reg                reply_q;      // stage 2 chose a reply on the last clock
+    reg                rep_wait_q;   // the reply slot is full
+    reg [2:0]          rep_n_q;
+    reg [31:0]         rep_data_q;
+    reg                dio_req_q;    // the RFLX slot is full
+    reg [5:0]          dio_id_q;
+    reg                dio_val_q;
+    reg [NUM_PINS-1:0] dio_below_q;
+    reg                pending_q;    // see hold_o
+
+    assign rep_req_o   = reply_q || rep_wait_q;
+    assign rep_n_o     = rep_n_q;
+    assign rep_data_o  = rep_data_q;
+    assign dio_req_o   = dio_req_q;
+    assign dio_id_o    = dio_id_q;
+    assign dio_val_o   = dio_val_q;
+    assign dio_below_o = dio_below_q;
+
+    // hold_o: a slot is full, or a packet is on its way through the stages
+    // and may fill one. pending_q is that condition for every stage after
+    // the first, worked out a clock ahead (from each flag's next value) so
+    // that hold_o, which gates the parser's s_axis_tready, is one gate.
+    wire rep_wait_d = rep_req_o && !rep_done_i;
+    wire dio_req_d  = dio_rflx_i || (dio_req_q && !dio_done_i);
+    assign hold_o = pkt_valid_i || pending_q;
+
+    // The RFLX arbiter ranks the waiting DIG_IO value against the timers by
+    // device ID; comparing here, as the value is stored, keeps the
+    // comparators out of the arbiter's clock.
+    reg [NUM_PINS-1:0] below;
+    integer b;
+    always @* begin
+        for (b = 0; b < NUM_PINS; b = b + 1)
+            below[b] = dio_id_i < TIMER_ID_BASE[5:0] + b[5:0];
+    end
+
+    always @(posedge clk) begin
+        reply_q    <= reply_i;
+        rep_wait_q <= rep_wait_d;
+        pending_q  <= pkt_valid_i || reply_i || rep_wait_d || dio_req_d;
+        if (s2_valid_i && !rep_req_o) begin
+            rep_n_q    <= reply_n_i;
+            rep_data_q <= reply_data_i;
+        end
+        dio_req_q <= dio_req_d;
+        if (dio_rflx_i) begin
+            dio_id_q    <= dio_id_i;
+            dio_val_q   <= dio_val_i;
+            dio_below_q <= below;
+        end
+        if (rst) begin
+            // The power-up message is the first packet out.
+            reply_q     <= 1'b0;
+            rep_wait_q  <= 1'b1;  // the power-up message waits
+            pending_q   <= 1'b1;
+            rep_n_q     <= 3'd2;
+            rep_data_q  <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
+            dio_req_q   <= 1'b0;
+            dio_id_q    <= 6'd0;
+            dio_val_q   <= 1'b0;
+            dio_below_q <= {NUM_PINS{1'b0}};
+        end
+    end
+endmodule
+`default_nettype wire
