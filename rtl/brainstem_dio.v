@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // brainstem_dio: the digital I/O subsystem of an Acroname BrainStem 1.0
 // module (GP 1.0 and kin), driven by its binary command packets over a

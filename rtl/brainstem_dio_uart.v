@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // brainstem_dio on a serial line: bsd_uart_rx -> RX FIFO -> brainstem_dio ->
 // (cmdQOverflow merge) -> bsd_uart_tx, with the heartbeat on as the original

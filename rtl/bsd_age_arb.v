@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Grants the oldest requester. A request is "born" on the clock it rises;
 // requesters born on the same clock rank by index (lowest first). Keeps an

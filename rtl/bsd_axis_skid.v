@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // AXI-Stream register slice (skid buffer): every output comes from a flop,
 // s_axis_tready included, so no combinational path crosses it in either

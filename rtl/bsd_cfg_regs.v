@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Per-pin DIGCFG bits 4:0 and output latches. Pins in FIXED_MASK hold
 // FIXED_CFG and ignore configuration writes (their output latch stays writable).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // One pin's logic event timer (cmdPTIME_RD).
 // Edge mode counts ticks from the start until the pin goes non-target ->

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Executes one packet from the parser in two clocks. The first looks up the
 // addressed pin's state (a wide mux on many-pin builds) and decides the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Synchronous FIFO with AXI-Stream-style ports. DEPTH words (a power of two)
 // sit in a RAM with a registered read, which maps onto one iCE40 block RAM

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // cmdHB: queues an UP/DOWN heartbeat (alternately) every HB_RATE x 25.6 ms
 // and tracks the host's answers. link_up rises on an answer to the latest

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Merges one fixed message packet `A, 2, 0x80, CODE` into a packet stream,
 // only between packets: while a packet of the stream is part-way out

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Byte framing of host packets: address, N, d0 .. d(N-1).
 // Hands each complete packet that needs action to the executor as a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // The executor's two slots and the parser's hold. The reply slot keeps the
 // one waiting reply or message (a packet of up to 4 data bytes) for bsd_tx;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // RFLX strobes: every clock, the waiting value with the lowest device ID is
 // strobed on rflx_*_o (registered), and its source is told at once. Timer

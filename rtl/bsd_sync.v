@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Two-flop synchronizer for asynchronous pad inputs. No reset: it only
 // carries levels, and after two clocks it holds the pad whatever it started as.

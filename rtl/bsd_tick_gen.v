@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Strobe at RATE_HZ on average from a CLK_HZ clock, with no drift.
 // A phase accumulator adds RATE/g and wraps at CLK/g (g = gcd), so the

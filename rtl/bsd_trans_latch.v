@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // One pin's one-shot transition latch (DIGCFG ENA/TRG).
 // Arming loads the current level as the previous sample, so a level that is

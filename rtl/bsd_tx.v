@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Sends whole packets `A, N, d0..` onto m_axis, the oldest waiting source
 // first. Source s offers N (0..4) and up to four data bytes; it keeps its

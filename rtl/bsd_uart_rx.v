@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // 8N1 UART receiver. The line is synchronized by two flops, a start bit is
 // confirmed at its middle (a low pulse shorter than about half a bit is a

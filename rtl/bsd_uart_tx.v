@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // 8N1 UART transmitter with an AXI-Stream-style byte input. A byte is taken
 // while the line is idle or on the last clock of the previous stop bit, so

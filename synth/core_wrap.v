@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Measurement harness for brainstem_dio alone: the bare core has more port
 // bits than a UP5K-SG48 has pins, so every core input comes from a flop of a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // iCEBreaker (iCE40UP5K-SG48) board top for brainstem_dio_uart.
 //   CLK     12 MHz oscillator (pin 35)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `timescale 1ns / 1ps
 `default_nettype none
 // Self-checking long-run check of bsd_tick_gen: no drift over CLOCKS clocks

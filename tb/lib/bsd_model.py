@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Reference model of brainstem_dio: the contract (docs/PROTOCOL.md) plus the
 decisions of docs/DESIGN.md.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """cocotb testbench for brainstem_dio: clock, reset, AXI-Stream source/sink, pin drivers and
 monitors, and helpers that check the core against the reference model (bsd_model.py).
 

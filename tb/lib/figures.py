@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Measured figures (timer error, run times) that tests print in pytest's summary.
 
 A cocotb test runs inside the simulator's own process, so it leaves its figure in a file;

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Seeded randomness for the block-level cocotb tests."""
 
 from __future__ import annotations

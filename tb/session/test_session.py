@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The standalone session runner (sim/session.cpp): the demo script holds, and
 every kind of bad script line stops the run with file:line and a clear message."""
 
