@@ -15,7 +15,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-full test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -174,9 +174,13 @@ synth: $(SYNTH_STAMP)
 bitstream: $(SYNTH_STAMP)
 	$(VPY) synth/synth.py --bitstream
 
-# make test: lint first (CI runs exactly this), then the whole regression; pytest's summary
-# ends with the slowest tests, the measured figures and the build count.
+# make test: lint first (CI runs exactly this), then the regression without the `deep` cases;
+# pytest's summary ends with the slowest tests, the measured figures and the build count.
+# make test-full: the same with the deep cases (long second runs on the other simulator).
 test: lint
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" $(PYTEST_ARGS) tb host/tests
+
+test-full: lint
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
 
 # The host library's own tests alone (no simulator).

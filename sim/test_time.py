@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.write:
         import docregions
 
-        docregions.fill(ROOT / "docs" / "benchmarks.md", "test-time", text)
+        docregions.fill_file(ROOT / "docs" / "benchmarks.md", {"test-time": text})
     return 0
 
 

@@ -30,7 +30,7 @@ def hold_s(p: Params) -> float:
     return 2.5 / p.poll_hz if p.poll_hz else 20 / p.clk_hz
 
 
-@SUITE.test("clk8", "clk8_poll0")
+@SUITE.test("clk8", "clk8_poll0", deep=lambda sim, build: sim == "icarus" and build == "clk8")
 async def test_random_sequence(dut) -> None:
     """Random pad levels, DIG_RST and DIG_CFG sets (ENA, TRG, IODIR) on every free pin."""
     p = P

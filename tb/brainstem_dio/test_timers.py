@@ -79,7 +79,8 @@ class TimerJob:
         return [(t0 + self.interval, tgt)]
 
 
-@SUITE.test(*ACCURACY, args=accuracy_args)
+@SUITE.test(*ACCURACY, args=accuracy_args,
+            deep=lambda sim, build: sim == "icarus" and build == "clk2")
 async def test_timer_accuracy(dut) -> None:
     """Random edge intervals and widths on every timer pin at once, in batches; every
     result within one tick plus the fixed latency of the true interval (the bound: a result
@@ -244,7 +245,8 @@ async def test_timers(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("slow_fixed", "gp1", "clk32", "clk2")
+@SUITE.test("slow_fixed", "gp1", "clk32", "clk2",
+            deep=lambda sim, build: sim == "icarus" and build in ("gp1", "clk32"))
 async def test_timer_timeout(dut) -> None:
     """No completion within 65 535 ticks of the start: result 0 (HOST and RFLX), 65 535
     ticks after the start (± a tick, plus a few clocks), at several clock rates; the timeout counts from the start in width mode too; a completion just

@@ -52,6 +52,7 @@ class _Entry:
     sims: tuple[str, ...]
     args: Args | None
     only: Callable[[str, str], bool] | None
+    deep: Callable[[str, str], bool] | None
 
 
 class Suite:
@@ -75,9 +76,12 @@ class Suite:
         self._entries: list[_Entry] = []
 
     def test(self, *builds: str, sims: Sequence[str] | None = None, args: Args | None = None,
-             only: Callable[[str, str], bool] | None = None, **cocotb_kwargs: object):
+             only: Callable[[str, str], bool] | None = None,
+             deep: Callable[[str, str], bool] | None = None, **cocotb_kwargs: object):
         """`@cocotb.test(**cocotb_kwargs)`, run on `builds` (default: all) and `sims`, the
-        pairs for which `only(sim, build)` holds if given."""
+        pairs for which `only(sim, build)` holds if given. Pairs for which `deep(sim, build)`
+        holds are marked `deep`: `make test-full` runs them, `make test` leaves them out (each
+        is a long second run of a case that `make test` covers on another simulator or build)."""
         for b in builds:
             if b not in self.builds:
                 raise KeyError(f"{self.module}: unknown build {b!r} (have {', '.join(self.builds)})")
@@ -86,7 +90,7 @@ class Suite:
             test = cocotb.test(**cocotb_kwargs)(fn)
             name = test.name.rsplit(".", 1)[-1]  # a test defined in a function: its own name
             self._entries.append(_Entry(name, tuple(builds or self.builds),
-                                        tuple(sims or self.sims), args, only))
+                                        tuple(sims or self.sims), args, only, deep))
             return test
 
         return decorate
@@ -101,7 +105,8 @@ class Suite:
                         continue
                     args = e.args(sim, b) if callable(e.args) else dict(e.args or {})
                     case = Case(sim, b, e.name, args)
-                    out.append(pytest.param(case, id=case.id))
+                    marks = [pytest.mark.deep] if e.deep is not None and e.deep(sim, b) else []
+                    out.append(pytest.param(case, id=case.id, marks=marks))
         if not out:
             raise RuntimeError(f"{self.module}: no cocotb tests registered")
         return out

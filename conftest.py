@@ -4,11 +4,14 @@ the figures the tests measured (tb/lib/figures.py) and how many builds this run 
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+# At the repository root, not in tb/: tb/ on sys.path would make tb/brainstem_dio/ (the top
+# level's tests) shadow the host library's package brainstem_dio.
+sys.path.insert(0, str(Path(__file__).resolve().parent / "tb" / "lib"))
 
 import figures  # noqa: E402
 import runner  # noqa: E402
@@ -31,8 +34,18 @@ def pytest_terminal_summary(terminalreporter) -> None:
 
 
 def pytest_runtest_logreport(report) -> None:
-    """Every test's set-up + call + tear-down time, by worker, for sim/test_time.py."""
-    runner.record_timing("item", nodeid=report.nodeid, when=report.when, seconds=report.duration)
+    """Every test's set-up + call + tear-down time, by worker, for sim/test_time.py (under
+    pytest-xdist the controller sees each report again: only the worker records it)."""
+    if os.environ.get("PYTEST_XDIST_WORKER") or not _under_xdist:
+        runner.record_timing("item", nodeid=report.nodeid, when=report.when, seconds=report.duration)
+
+
+_under_xdist = False
+
+
+def pytest_configure(config) -> None:
+    global _under_xdist
+    _under_xdist = bool(getattr(config.option, "numprocesses", None))
 
 
 def pytest_sessionfinish(session) -> None:
@@ -52,6 +65,6 @@ def pytest_collection_modifyitems(config, items) -> None:
         if known:
             return (-known.get(item.nodeid, 0.0), 0)
         path = item.nodeid.split("::", 1)[0]
-        return (0.0, 0 if path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift")) else 1)
+        return (0.0, 0 if path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift", "tb/virtual", "tb/host_virtual")) else 1)
 
     items.sort(key=weight)  # stable: ties keep their collection order
