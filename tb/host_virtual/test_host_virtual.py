@@ -12,7 +12,6 @@ the port, and the CLI's subcommands as subprocesses with their exit codes. The p
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 import time
@@ -219,8 +218,9 @@ def test_open_missing_port() -> None:
 # ---------------------------------------------------------------- the CLI
 
 def cli(target_port: str, *args: str, baud: int = 9600, timeout: float = TIMEOUT) -> subprocess.CompletedProcess[str]:
+    """`brainstem-dio VERB PORT ARGS...`: the console script next to this Python (the venv's)."""
     exe = Path(sys.executable).parent / "brainstem-dio"
-    cmd = [str(exe)] if exe.exists() else [shutil.which("brainstem-dio") or sys.executable, *([] if shutil.which("brainstem-dio") else ["-m", "brainstem_dio"])]
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "brainstem_dio"]
     return subprocess.run([*cmd, args[0], target_port, *args[1:], "--baud", str(baud), "--timeout", str(CALL_TIMEOUT)],
                           capture_output=True, text=True, timeout=timeout)
 
