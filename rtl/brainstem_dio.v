@@ -128,6 +128,7 @@ module brainstem_dio #(
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
     wire [7:0] pkt_d0, pkt_d1, pkt_d2;
+    wire [39:0] pkt_tail;
 
     bsd_parser #(.MODULE_ADDR(MODULE_ADDR), .RX_TIMEOUT_US(RX_TIMEOUT_US)) u_parser (
         .clk           (clk),
@@ -142,7 +143,8 @@ module brainstem_dio #(
         .pkt_n_o       (pkt_n),
         .pkt_d0_o      (pkt_d0),
         .pkt_d1_o      (pkt_d1),
-        .pkt_d2_o      (pkt_d2)
+        .pkt_d2_o      (pkt_d2),
+        .pkt_tail_o    (pkt_tail)
     );
 
     // ------------------------------------------------------------ execution
@@ -160,8 +162,9 @@ module brainstem_dio #(
     wire                  hb_answer_down;
     wire                  s2_valid;
     wire                  s2_reply;
-    wire [2:0]            s2_reply_n;
+    wire [3:0]            s2_reply_n;
     wire [31:0]           s2_reply_data;
+    wire [31:0]           s2_reply_tail;
     wire                  s2_dio_rflx;
     wire [5:0]            s2_dio_id;
     wire                  s2_dio_val;
@@ -180,6 +183,7 @@ module brainstem_dio #(
         .pkt_d0_i        (pkt_d0),
         .pkt_d1_i        (pkt_d1),
         .pkt_d2_i        (pkt_d2),
+        .pkt_tail_i      (pkt_tail),
         .cfg_i           (cfg),
         .level_i         (level),
         .timer_busy_i    (timer_busy),
@@ -198,6 +202,7 @@ module brainstem_dio #(
         .reply_o         (s2_reply),
         .reply_n_o       (s2_reply_n),
         .reply_data_o    (s2_reply_data),
+        .reply_tail_o    (s2_reply_tail),
         .dio_rflx_o      (s2_dio_rflx),
         .dio_id_o        (s2_dio_id),
         .dio_val_o       (s2_dio_val)
@@ -206,8 +211,9 @@ module brainstem_dio #(
     // The waiting reply and DIG_IO RFLX value; the parser holds a packet that
     // may need either slot while it is full or about to be filled.
     wire                  rep_req, rep_done;
-    wire [2:0]            rep_n;
+    wire [3:0]            rep_n;
     wire [31:0]           rep_data;
+    wire [31:0]           rep_tail;
     wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
     wire [5:0]            dio_rflx_id;
     wire [NUM_PINS-1:0]   dio_rflx_below;
@@ -220,6 +226,7 @@ module brainstem_dio #(
         .reply_i      (s2_reply),
         .reply_n_i    (s2_reply_n),
         .reply_data_i (s2_reply_data),
+        .reply_tail_i (s2_reply_tail),
         .dio_rflx_i   (s2_dio_rflx),
         .dio_id_i     (s2_dio_id),
         .dio_val_i    (s2_dio_val),
@@ -227,6 +234,7 @@ module brainstem_dio #(
         .rep_req_o    (rep_req),
         .rep_n_o      (rep_n),
         .rep_data_o   (rep_data),
+        .rep_tail_o   (rep_tail),
         .rep_done_i   (rep_done),
         .dio_req_o    (dio_rflx_req),
         .dio_id_o     (dio_rflx_id),
@@ -340,7 +348,7 @@ module brainstem_dio #(
     endgenerate
 
     assign tx_req[SRC_REPLY]               = rep_req;
-    assign tx_n[3*SRC_REPLY +: 3]          = rep_n;
+    assign tx_n[3*SRC_REPLY +: 3]          = rep_n[2:0];  // bit 3 and d4..d7: the long ports
     assign tx_data[32*SRC_REPLY +: 32]     = rep_data;
     assign rep_done                        = tx_done[SRC_REPLY];
 
@@ -349,12 +357,14 @@ module brainstem_dio #(
     assign tx_data[32*SRC_HB +: 32]        = {CMD_HB, hb_type, 16'd0};
     assign hb_done                         = tx_done[SRC_HB];
 
-    bsd_tx #(.MODULE_ADDR(MODULE_ADDR), .K(K)) u_tx (
+    bsd_tx #(.MODULE_ADDR(MODULE_ADDR), .K(K), .LONG_SRC(SRC_REPLY)) u_tx (
         .clk           (clk),
         .rst           (rst),
         .req_i         (tx_req),
         .n_i           (tx_n),
         .data_i        (tx_data),
+        .long_n3_i     (rep_n[3]),
+        .long_data_i   (rep_tail),
         .done_o        (tx_done),
         .m_axis_tdata  (m_axis_tdata),
         .m_axis_tvalid (m_axis_tvalid),

@@ -8,7 +8,9 @@
 // message with the contract's precedence (cmdInvalid, cmdTooShort, the
 // command's own error, then the action and cmdTooLong), and whether a DIG_IO
 // read sends its value on RFLX. Packets come at least three clocks apart, so
-// the stages never overlap. The decision goes to bsd_reply_slot, which holds
+// the stages never overlap. cmdDEBUG's echo takes d3..d7 straight from the
+// parser's registers in stage 2: the parser writes no data byte before the
+// clock after stage 2, when the reply slot has taken them. The decision goes to bsd_reply_slot, which holds
 // the waiting reply and the waiting DIG_IO RFLX value and tells the parser
 // when to hold.
 module bsd_exec #(
@@ -26,6 +28,7 @@ module bsd_exec #(
     input  wire [7:0]            pkt_d0_i,
     input  wire [7:0]            pkt_d1_i,
     input  wire [7:0]            pkt_d2_i,
+    input  wire [39:0]           pkt_tail_i,    // d3..d7 (cmdDEBUG)
     // pin state
     input  wire [5*NUM_PINS-1:0] cfg_i,
     input  wire [NUM_PINS-1:0]   level_i,
@@ -47,8 +50,9 @@ module bsd_exec #(
     // stage 2's packet and decision, for bsd_reply_slot
     output wire                  s2_valid_o,    // a packet is in stage 2
     output wire                  reply_o,       // it has a reply: A, reply_n_o, reply_data_o[31:24] ...
-    output wire [2:0]            reply_n_o,
+    output wire [3:0]            reply_n_o,
     output wire [31:0]           reply_data_o,
+    output wire [31:0]           reply_tail_o,  // d4..d7 of a cmdDEBUG echo (stale otherwise)
     output wire                  dio_rflx_o,    // it is a DIG_IO read that sends its value on RFLX
     output wire [5:0]            dio_id_o,      // the DIG_IO pin's device ID
     output wire                  dio_val_o      // and its level
@@ -114,7 +118,8 @@ module bsd_exec #(
 
     reg                s2_valid_q;
     reg                probe_q, serial_q, cmd_q;
-    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_invalid_q;
+    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_debug_q, is_invalid_q;
+    reg [3:0]          n_q;
     reg                n1_q, n2_q, n_gt2_q, n_gt3_q;
     reg [7:0]          s2_d1_q, s2_d2_q;
     reg                pin_ok_q, dev_ok_q;
@@ -134,8 +139,10 @@ module bsd_exec #(
         is_cfg_q        <= pkt_d0_i == CMD_DIG_CFG;
         is_io_q         <= pkt_d0_i == CMD_DIG_IO;
         is_rst_q        <= pkt_d0_i == CMD_DIG_RST;
+        is_debug_q      <= pkt_d0_i == CMD_DEBUG;
         is_invalid_q    <= !(pkt_d0_i == CMD_HB || pkt_d0_i == CMD_DIG_CFG || pkt_d0_i == CMD_DIG_IO ||
-                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD);
+                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD || pkt_d0_i == CMD_DEBUG);
+        n_q             <= pkt_n_i;
         n1_q            <= pkt_n_i == 4'd1;
         n2_q            <= pkt_n_i == 4'd2;
         n_gt2_q         <= pkt_n_i > 4'd2;
@@ -197,20 +204,20 @@ module bsd_exec #(
 
     // The reply or message of the packet in stage 2.
     reg        reply;
-    reg [2:0]  reply_n;
+    reg [3:0]  reply_n;
     reg [31:0] reply_data;
 
     task message(input [7:0] code);
         begin
             reply      = 1'b1;
-            reply_n    = 3'd2;
+            reply_n    = 4'd2;
             reply_data = {CMD_MSG, code, 16'd0};
         end
     endtask
 
     always @* begin
         reply      = 1'b0;
-        reply_n    = 3'd0;
+        reply_n    = 4'd0;
         reply_data = 32'd0;
 
         if (probe_q) begin
@@ -222,6 +229,11 @@ module bsd_exec #(
                 // Silent; stage 1 decided whether it answers.
             end else if (is_invalid_q) begin
                 message(MSG_CMD_INVALID);
+            end else if (is_debug_q) begin
+                // The echo: the packet back as received, any N (bytes past N are not sent).
+                reply      = 1'b1;
+                reply_n    = n_q;
+                reply_data = {CMD_DEBUG, s2_d1_q, s2_d2_q, pkt_tail_i[39:32]};
             end else if (n1_q) begin
                 message(MSG_CMD_TOO_SHORT);
             end else if (acted) begin
@@ -232,7 +244,7 @@ module bsd_exec #(
                 if (!pin_ok_q) message(MSG_CMD_INDEX_ERR);
                 else if (n2_q) begin
                     reply      = 1'b1;
-                    reply_n    = 3'd3;
+                    reply_n    = 4'd3;
                     reply_data = {CMD_DIG_CFG, s2_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
                 end else message(MSG_CONFIG_ERR);
             end else if (is_io_q) begin
@@ -241,7 +253,7 @@ module bsd_exec #(
                 else begin
                     if (dev_host) begin
                         reply      = 1'b1;
-                        reply_n    = 3'd3;
+                        reply_n    = 4'd3;
                         reply_data = {CMD_DEV_VAL, 2'b00, dev_id_q, 7'd0, pin_level_q, 8'd0};
                     end
                 end
@@ -259,6 +271,7 @@ module bsd_exec #(
     assign reply_o      = reply;
     assign reply_n_o    = reply_n;
     assign reply_data_o = reply_data;
+    assign reply_tail_o = pkt_tail_i[31:0];
     assign dio_rflx_o   = dio_rflx;
     assign dio_id_o     = dev_id_q;
     assign dio_val_o    = pin_level_q;

@@ -2,7 +2,8 @@
 `default_nettype none
 // Byte framing of host packets: address, N, d0 .. d(N-1).
 // Hands each complete packet that needs action to the executor as a
-// one-clock pulse with its first three data bytes and N. Packets for other
+// one-clock pulse with N and its data bytes (d0..d2 for the commands, d3..d7
+// for cmdDEBUG's echo). Packets for other
 // addresses are consumed silently; N > 8 resyncs on the next byte; a partial
 // packet is dropped after RX_TIMEOUT_US of waiting for a byte.
 module bsd_parser #(
@@ -21,7 +22,8 @@ module bsd_parser #(
     output wire [3:0] pkt_n_o,
     output wire [7:0] pkt_d0_o,
     output wire [7:0] pkt_d1_o,
-    output wire [7:0] pkt_d2_o
+    output wire [7:0] pkt_d2_o,
+    output wire [39:0] pkt_tail_o    // d3..d7, d3 in the top byte (cmdDEBUG echoes them)
 );
     `include "bsd_protocol.vh"
 
@@ -50,6 +52,7 @@ module bsd_parser #(
     reg  [1:0]    pkt_kind_q;
     reg  [3:0]    pkt_n_q;
     reg  [7:0]    pkt_d0_q, pkt_d1_q, pkt_d2_q;
+    reg  [39:0]   pkt_tail_q;
 
     assign pkt_valid_o = pkt_valid_q;
     assign pkt_kind_o  = pkt_kind_q;
@@ -57,6 +60,7 @@ module bsd_parser #(
     assign pkt_d0_o    = pkt_d0_q;
     assign pkt_d1_o    = pkt_d1_q;
     assign pkt_d2_o    = pkt_d2_q;
+    assign pkt_tail_o  = pkt_tail_q;
 
     // Flow control. A packet that can need the reply slot is handed over only
     // while the slot is free and no packet is being executed (hold_i 0), so
@@ -156,6 +160,11 @@ module bsd_parser #(
                 4'd0:    pkt_d0_q <= s_axis_tdata;
                 4'd1:    pkt_d1_q <= s_axis_tdata;
                 4'd2:    pkt_d2_q <= s_axis_tdata;
+                4'd3:    pkt_tail_q[39:32] <= s_axis_tdata;
+                4'd4:    pkt_tail_q[31:24] <= s_axis_tdata;
+                4'd5:    pkt_tail_q[23:16] <= s_axis_tdata;
+                4'd6:    pkt_tail_q[15:8]  <= s_axis_tdata;
+                4'd7:    pkt_tail_q[7:0]   <= s_axis_tdata;
                 default: ;
             endcase
         end
@@ -174,6 +183,7 @@ module bsd_parser #(
             pkt_d0_q    <= 8'd0;
             pkt_d1_q    <= 8'd0;
             pkt_d2_q    <= 8'd0;
+            pkt_tail_q  <= 40'd0;
         end
     end
 endmodule

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // The executor's two slots and the parser's hold. The reply slot keeps the
-// one waiting reply or message (a packet of up to 4 data bytes) for bsd_tx;
+// one waiting reply or message (a packet of up to 8 data bytes: bytes 4..7
+// only for cmdDEBUG's echo) for bsd_tx;
 // the RFLX slot keeps the one waiting DIG_IO RFLX value for bsd_rflx_arb.
 // The parser never completes a packet that could need a slot while it is
 // full: hold_o covers the clocks from the packet to its request.
@@ -22,17 +23,19 @@ module bsd_reply_slot #(
     // the executor's stage 2 (bsd_exec)
     input  wire                s2_valid_i,    // a packet is in stage 2
     input  wire                reply_i,       // it has a reply
-    input  wire [2:0]          reply_n_i,
+    input  wire [3:0]          reply_n_i,
     input  wire [31:0]         reply_data_i,
+    input  wire [31:0]         reply_tail_i,  // its data bytes 4..7
     input  wire                dio_rflx_i,    // it sends a DIG_IO value on RFLX
     input  wire [5:0]          dio_id_i,
     input  wire                dio_val_i,
     // to the parser: a packet that may need a slot must wait
     output wire                hold_o,
-    // the waiting reply, to bsd_tx: A, rep_n_o, rep_data_o[31:24] ...
+    // the waiting reply, to bsd_tx: A, rep_n_o, rep_data_o[31:24] .. rep_tail_o[7:0]
     output wire                rep_req_o,
-    output wire [2:0]          rep_n_o,
+    output wire [3:0]          rep_n_o,
     output wire [31:0]         rep_data_o,
+    output wire [31:0]         rep_tail_o,
     input  wire                rep_done_i,
     // the waiting DIG_IO RFLX value, to bsd_rflx_arb
     output wire                dio_req_o,
@@ -45,8 +48,9 @@ module bsd_reply_slot #(
 
     reg                reply_q;      // stage 2 chose a reply on the last clock
     reg                rep_wait_q;   // the reply slot is full
-    reg [2:0]          rep_n_q;
+    reg [3:0]          rep_n_q;
     reg [31:0]         rep_data_q;
+    reg [31:0]         rep_tail_q;
     reg                dio_req_q;    // the RFLX slot is full
     reg [5:0]          dio_id_q;
     reg                dio_val_q;
@@ -56,6 +60,7 @@ module bsd_reply_slot #(
     assign rep_req_o   = reply_q || rep_wait_q;
     assign rep_n_o     = rep_n_q;
     assign rep_data_o  = rep_data_q;
+    assign rep_tail_o  = rep_tail_q;
     assign dio_req_o   = dio_req_q;
     assign dio_id_o    = dio_id_q;
     assign dio_val_o   = dio_val_q;
@@ -86,6 +91,7 @@ module bsd_reply_slot #(
         if (s2_valid_i && !rep_req_o) begin
             rep_n_q    <= reply_n_i;
             rep_data_q <= reply_data_i;
+            rep_tail_q <= reply_tail_i;
         end
         dio_req_q <= dio_req_d;
         if (dio_rflx_i) begin
@@ -98,8 +104,9 @@ module bsd_reply_slot #(
             reply_q     <= 1'b0;
             rep_wait_q  <= 1'b1;  // the power-up message waits
             pending_q   <= 1'b1;
-            rep_n_q     <= 3'd2;
+            rep_n_q     <= 4'd2;
             rep_data_q  <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
+            rep_tail_q  <= 32'd0;
             dio_req_q   <= 1'b0;
             dio_id_q    <= 6'd0;
             dio_val_q   <= 1'b0;

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Sends whole packets `A, N, d0..` onto m_axis, the oldest waiting source
-// first. Source s offers N (0..4) and up to four data bytes; it keeps its
+// first. Source s offers N (0..4) and up to four data bytes; source LONG_SRC
+// (the command reply, for cmdDEBUG's echo) may offer N up to 8 and four more
+// bytes on long_n3_i/long_data_i (N's bit 3, data bytes 4..7; none when
+// LONG_SRC < 0). Each source keeps its
 // request up, and its packet unchanged, until done_o[s] pulses with the
 // handshake of its last byte, so a source is "delivered" only when its
 // packet has left the core.
@@ -15,13 +18,16 @@
 // events are always younger, so staging early never reorders packets.
 module bsd_tx #(
     parameter integer MODULE_ADDR = 2,
-    parameter integer K           = 2
+    parameter integer K           = 2,
+    parameter integer LONG_SRC    = -1
 ) (
     input  wire            clk,
     input  wire            rst,
     input  wire [K-1:0]    req_i,
     input  wire [3*K-1:0]  n_i,
     input  wire [32*K-1:0] data_i,   // source s: data_i[32*s+24 +: 8] is d0
+    input  wire            long_n3_i,    // source LONG_SRC: bit 3 of its N
+    input  wire [31:0]     long_data_i,  // and its d4..d7, d4 in the top byte
     output wire [K-1:0]    done_o,
     output wire [7:0]      m_axis_tdata,
     output wire            m_axis_tvalid,
@@ -31,8 +37,8 @@ module bsd_tx #(
     localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
 
     // The packet going out.
-    reg  [47:0]  buf_q;    // bytes still to send, first in the top byte
-    reg  [2:0]   left_q;   // bytes still to send
+    reg  [79:0]  buf_q;    // bytes still to send, first in the top byte
+    reg  [3:0]   left_q;   // bytes still to send
     reg          last_q;   // left_q == 1: the byte offered is the packet's last
     reg          valid_q;
     reg  [K-1:0] cur_q;    // its source (0 when none: cur_q, next_src_q and
@@ -59,16 +65,22 @@ module bsd_tx #(
     );
 
     // The staged source's packet (it stays unchanged until it has left).
-    reg [2:0]  sel_n;
+    reg [3:0]  sel_n;
     reg [31:0] sel_data;
+    reg [31:0] sel_long;
     integer s;
     always @* begin
-        sel_n    = 3'd0;
+        sel_n    = 4'd0;
         sel_data = 32'd0;
+        sel_long = 32'd0;
         for (s = 0; s < K; s = s + 1) begin
             if (next_src_q[s]) begin
-                sel_n    = sel_n | n_i[3*s +: 3];
+                sel_n    = sel_n | {1'b0, n_i[3*s +: 3]};
                 sel_data = sel_data | data_i[32*s +: 32];
+                if (s == LONG_SRC) begin
+                    sel_n[3] = long_n3_i;
+                    sel_long = long_data_i;
+                end
             end
         end
     end
@@ -79,15 +91,15 @@ module bsd_tx #(
 
     always @(posedge clk) begin
         if (load) begin
-            buf_q   <= {ADDR_OWN, 5'd0, sel_n, sel_data};
-            left_q  <= sel_n + 3'd2;
+            buf_q   <= {ADDR_OWN, 4'd0, sel_n, sel_data, sel_long};
+            left_q  <= sel_n + 4'd2;
             last_q  <= 1'b0;  // a packet is at least A, N
             valid_q <= 1'b1;
             cur_q   <= next_src_q;
         end else if (hs) begin
-            buf_q   <= {buf_q[39:0], 8'd0};
-            left_q  <= left_q - 3'd1;
-            last_q  <= left_q == 3'd2;
+            buf_q   <= {buf_q[71:0], 8'd0};
+            left_q  <= left_q - 4'd1;
+            last_q  <= left_q == 4'd2;
             if (last_q) begin
                 valid_q <= 1'b0;
                 cur_q   <= {K{1'b0}};
@@ -99,8 +111,8 @@ module bsd_tx #(
         end
         done_q <= done;
         if (rst) begin
-            buf_q        <= 48'd0;
-            left_q       <= 3'd0;
+            buf_q        <= 80'd0;
+            left_q       <= 4'd0;
             last_q       <= 1'b0;
             valid_q      <= 1'b0;
             cur_q        <= {K{1'b0}};
@@ -110,7 +122,7 @@ module bsd_tx #(
         end
     end
 
-    assign m_axis_tdata  = buf_q[47:40];
+    assign m_axis_tdata  = buf_q[79:72];
     assign m_axis_tvalid = valid_q;
     assign m_axis_tlast  = last_q;
 endmodule

@@ -8,25 +8,34 @@ serial line sends one command after another, each when the previous reply is in 
 set and query, DIG_IO reads, DIG_RST, PTIME_RD on a toggling pad), and answers the heartbeat.
 It prints, per run, simulated seconds per wall second (what a host sees on this machine as it
 is loaded now) and per CPU second (what the simulation would give with a core to itself), and
-then the highest clock that keeps real time.
+then the highest clock that keeps real time. `--write FILE` also fills FILE's marked region
+`<!-- generated:virtual-speed begin -->` .. `end` with the Markdown table, under the run's date
+and command (`make bench` does this for docs/benchmarks.md; tools/docregions.py).
 
     .venv/bin/python sim/virtual_bench.py                 # 2, 12, 48 MHz x 9600, 115200 baud
     .venv/bin/python sim/virtual_bench.py --markdown      # the same as a Markdown table
+    .venv/bin/python sim/virtual_bench.py --write docs/benchmarks.md   # and into its region
     .venv/bin/python sim/virtual_bench.py --clocks 2000000 4000000 --bauds 9600 --seconds 5
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import os
 import platform
 import re
+import shlex
 import subprocess
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+from docregions import RegionError, fill, fill_file  # noqa: E402
+
+REGION = "virtual-speed"
 LINE = re.compile(r"simulated ([\d.]+) s in ([\d.]+) s wall, ([\d.]+) s cpu: ratio ([\d.]+) wall, ([\d.]+) cpu; "
                   r"(\d+) cycles per cpu second")
 
@@ -85,7 +94,7 @@ def mhz(hz: float | None) -> str:
     return "none" if hz is None else f"{hz / 1e6:g} MHz"
 
 
-def report(runs: list[Run], markdown: bool, where: str) -> None:
+def report(runs: list[Run], markdown: bool, where: str) -> str:
     head = ["CLK_HZ", "BAUD", "simulated s", "wall s", "ratio to real time", "ratio per CPU second",
             "M cycles per CPU second"]
     rows = [[f"{r.clk_hz / 1e6:g} MHz", str(r.baud), f"{r.simulated:.2f}", f"{r.wall:.2f}",
@@ -100,26 +109,20 @@ def report(runs: list[Run], markdown: bool, where: str) -> None:
         f" {estimate / 1e6:.1f} MHz from the slowest cycle rate).",
     ]
     if markdown:
-        print(f"Machine: {where}.\n")
-        print("| " + " | ".join(head) + " |")
-        print("|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|")
-        for row in rows:
-            print("| " + " | ".join(row) + " |")
-        print()
-        for line in summary:
-            print(line)
-        return
-    print(f"machine: {where}")
+        lines = [f"Machine: {where}.", "", "| " + " | ".join(head) + " |",
+                 "|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|"]
+        lines += ["| " + " | ".join(row) + " |" for row in rows]
+        return "\n".join(lines + [""] + summary)
     widths = [max(len(h), *(len(row[i]) for row in rows)) for i, h in enumerate(head)]
-    print("  ".join(h.rjust(w) for h, w in zip(head, widths)))
-    for row in rows:
-        print("  ".join(c.rjust(w) for c, w in zip(row, widths)))
-    for line in summary:
-        print(line)
+    lines = [f"machine: {where}", "  ".join(h.rjust(w) for h, w in zip(head, widths))]
+    lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths)) for row in rows]
+    return "\n".join(lines + summary)
 
 
-def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    ap = argparse.ArgumentParser(prog="sim/virtual_bench.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--clocks", type=int, nargs="+", default=[2_000_000, 12_000_000, 48_000_000],
                     metavar="HZ", help="CLK_HZ values (default: 2, 12 and 48 MHz)")
     ap.add_argument("--bauds", type=int, nargs="+", default=[9600, 115200], metavar="BAUD",
@@ -127,13 +130,22 @@ def main() -> int:
     ap.add_argument("--hb-rate", type=int, default=10, help="HB_RATE of the builds (default 10: 256 ms)")
     ap.add_argument("--seconds", type=float, default=3.0, help="wall seconds per run (default 3)")
     ap.add_argument("--markdown", action="store_true", help="print a Markdown table")
-    args = ap.parse_args()
+    ap.add_argument("--write", type=Path, metavar="FILE",
+                    help=f"also fill the region `generated:{REGION}` of FILE with the Markdown table")
+    args = ap.parse_args(argv)
     if args.seconds <= 0:
         ap.error("--seconds must be positive")
     for clk in args.clocks:
         for baud in args.bauds:
             if (clk + baud // 2) // baud < 8:
                 ap.error(f"CLK_HZ {clk} / BAUD {baud} is below 8 clocks a bit (uart_rx needs 8)")
+    if args.write is not None:  # a missing marker fails now, not after the runs
+        try:
+            fill(args.write.read_text(encoding="utf-8"), {REGION: ""}, where=str(args.write))
+        except (OSError, RegionError) as e:
+            print(f"sim/virtual_bench.py: error: {e}", file=sys.stderr)
+            return 1
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     where = machine()
     runs = []
     for clk in args.clocks:
@@ -141,7 +153,11 @@ def main() -> int:
             binary = build(clk, baud, args.hb_rate)
             runs.append(measure(binary, clk, baud, args.seconds))
             print(f"virtual_bench: {clk / 1e6:g} MHz, {baud} baud: ratio {runs[-1].ratio_wall:.2f}", file=sys.stderr)
-    report(runs, args.markdown, where)
+    print(report(runs, args.markdown, where))
+    if args.write is not None:
+        body = f"_Measured {date} by `{shlex.join(['sim/virtual_bench.py', *argv])}`._\n\n" + report(runs, True, where)
+        changed = fill_file(args.write, {REGION: body})
+        print(f"{'wrote' if changed else 'unchanged:'} {args.write} ({REGION})", file=sys.stderr)
     return 0
 
 

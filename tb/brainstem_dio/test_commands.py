@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from bsd_model import CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_RFLX, DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_TRG, MAX_DATA, RESYNC_ADDR, TICK_S, packet
+from bsd_model import CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_RFLX, DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_TRG, MAX_DATA, RESYNC_ADDR, TICK_S, packet
 from bsd_tb import _hex
 from suite import Suite
 from top_builds import BUILDS
@@ -39,6 +39,7 @@ async def test_worked_examples(dut) -> None:
     await tb.command(m, packet(A, CMD_DIG_CFG, 2, 0x01, 0xFF))
     await tb.command(m, packet(A, 0x63))
     await tb.command(m, packet(RESYNC_ADDR))
+    await tb.command(m, packet(A, CMD_DEBUG, 1, 2))
     tb.check_no_errors()
 
 
@@ -168,6 +169,18 @@ async def test_messages(dut) -> None:
             await tb.command(m, packet(A, CMD_DIG_IO, outs[0], n & 1, *extra))
             tb.check_pins(m)
         await tb.command(m, packet(A, CMD_DIG_RST, pin_in, *extra, 0))
+    # cmdDEBUG: echoed whole for every N from 1 (just the code) to 8, never cmdTooShort/TooLong;
+    # echoes back to back, and an echo held behind a stalled output.
+    for n in range(1, MAX_DATA + 1):
+        await tb.command(m, packet(A, CMD_DEBUG, *[rng.randrange(256) for _ in range(n - 1)]))
+    await tb.command(m, b"".join(packet(A, CMD_DEBUG, *range(n, 2 * n - 1)) for n in range(MAX_DATA, 0, -1)))
+    held = packet(A, CMD_DEBUG, 0xFF, 0, 0x80, 1, 2, 3, 0xAD) + packet(A, CMD_DIG_CFG, pin_in) + packet(A, CMD_DEBUG, *range(7))
+    exp = m.feed(held)
+    tb.sink.paused = True
+    tb.source.send_nowait(held)
+    await tb.cycles(400)
+    tb.sink.paused = False
+    await tb.expect(exp, what=_hex(held))
     # cmdHB from the host: silent for any N, any type.
     for data in ([CMD_HB], [CMD_HB, 2], [CMD_HB, 3], [CMD_HB, 0], [CMD_HB, 2, 1, 2, 3, 4, 5, 6]):
         await tb.command(m, packet(A, *data))

@@ -10,7 +10,7 @@ import random
 
 import pytest
 
-from bsd_model import CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DIGCFG_IODIR, MAX_DATA, Model, Output, RESYNC_ADDR, TIMER_TIMEOUT_S, packet
+from bsd_model import CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DIGCFG_IODIR, MAX_DATA, Model, Output, RESYNC_ADDR, TIMER_TIMEOUT_S, packet
 from bsd_tb import TB, TBError, _hex
 from runner import test_args
 from suite import Suite
@@ -53,7 +53,7 @@ def random_packet(rng: random.Random, m: Model) -> bytes:
     r = rng.random()
     if r < 0.62:
         cmd = rng.choice([CMD_DIG_CFG] * 4 + [CMD_DIG_IO] * 4 + [CMD_DIG_RST, CMD_PTIME_RD, CMD_PTIME_RD,
-                                                                 CMD_HB, rng.randrange(256)])
+                                                                 CMD_HB, CMD_DEBUG, rng.randrange(256)])
         if cmd == CMD_DIG_CFG:
             if rng.random() < 0.5:
                 data = [cmd, pin_byte()]
@@ -66,6 +66,8 @@ def random_packet(rng: random.Random, m: Model) -> bytes:
             data = [cmd, devcode()] if rng.random() < 0.6 else [cmd, pin_byte(), rng.choice([0, 1, 0xFF])]
         elif cmd in (CMD_DIG_RST, CMD_PTIME_RD):
             data = [cmd, devcode() if cmd == CMD_PTIME_RD else pin_byte()]
+        elif cmd == CMD_DEBUG:
+            data = [cmd] + [rng.randrange(256) for _ in range(rng.randint(0, MAX_DATA - 1))]
         else:
             data = [cmd] + [rng.randrange(256) for _ in range(rng.randint(0, 3))]
         u = rng.random()

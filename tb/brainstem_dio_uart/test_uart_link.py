@@ -33,6 +33,7 @@ from cocotb.triggers import ClockCycles, Event, First, ReadOnly, RisingEdge, Tim
 from cocotbext.uart import UartSink, UartSource
 
 from bsd_model import (
+    CMD_DEBUG,
     CMD_DEV_VAL,
     CMD_DIG_CFG,
     CMD_DIG_IO,
@@ -51,6 +52,7 @@ from bsd_model import (
     packet,
     ticks_close,
 )
+from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_CMD_Q_OVERFLOW
 from runner import hdl_params
 from suite import Suite
@@ -286,7 +288,7 @@ async def test_worked_examples(dut) -> None:
     assert abs(ticks - 500) <= 1 and ticks_close(ticks, interval, P.clk_hz), f"{ticks} ticks for 800 us"
     await host.expect(m.timer_complete(4, ticks).packets, "the timer result")
     for pkt in (packet(A, CMD_DIG_CFG), packet(A, CMD_DIG_CFG, 2, 0x01, 0xFF), packet(A, 0x63),
-                packet(RESYNC_ADDR)):
+                packet(RESYNC_ADDR), packet(A, CMD_DEBUG, 1, 2)):
         await host.command(m, pkt)
     assert not strobes.frame_err and not strobes.dropped()
 
@@ -295,7 +297,7 @@ def random_command(rng: random.Random, reply: bool) -> bytes:
     """A command that does (reply=True) or does not produce a reply packet, pins static."""
     pins_plus = P.num_pins + 2
     if reply:
-        kind = rng.randrange(6)
+        kind = rng.randrange(7)
         if kind == 0:
             return packet(A, CMD_DIG_CFG, rng.randrange(pins_plus))           # query / index err
         if kind == 1:
@@ -306,6 +308,8 @@ def random_command(rng: random.Random, reply: bool) -> bytes:
             return packet(A, rng.choice([CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST]))  # too short
         if kind == 4:
             return packet(RESYNC_ADDR)
+        if kind == 5:
+            return packet(A, CMD_DEBUG, *rng.randbytes(rng.randrange(MAX_DATA)))  # echo, N 1..8
         return packet(A, CMD_DIG_RST, rng.randrange(P.num_pins), 0)            # too long
     kind = rng.randrange(4)
     pin = rng.randrange(P.num_pins)

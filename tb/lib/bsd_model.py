@@ -28,6 +28,7 @@ from runner import hdl_params
 
 # Re-exported: the tests import them from here.
 from bsd_protocol import (
+    CMD_DEBUG,
     CMD_DEV_VAL,
     CMD_DIG_CFG,
     CMD_DIG_IO,
@@ -66,7 +67,7 @@ from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_STATE_POWER_RESET as MSG_POWER_RESET
 
 # Longest form of each host command the model executes, counting the command byte (longer is
-# cmdTooLong). cmdHB is consumed apart; cmdDEBUG is not implemented yet.
+# cmdTooLong). cmdHB is consumed apart; cmdDEBUG (any N from 1 to 8) is echoed back whole.
 CMD_LONGEST = {c: CMD_MAX_N[c] for c in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)}
 
 TICK_S = 1.0 / TICK_HZ
@@ -358,6 +359,9 @@ class Model:
         cmd = d[0]
         if cmd == CMD_HB:
             self._hb_answer(d)
+            return
+        if cmd == CMD_DEBUG:
+            out.packets.append(packet(self.p.module_addr, *d))
             return
         longest = CMD_LONGEST.get(cmd)
         if longest is None:

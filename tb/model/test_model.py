@@ -10,6 +10,7 @@ from __future__ import annotations
 import pytest
 
 from bsd_model import (
+    CMD_DEBUG,
     CMD_DIG_CFG,
     CMD_DIG_IO,
     CMD_DIG_RST,
@@ -113,6 +114,10 @@ def test_table_resync(model: Model) -> None:
     assert pk(model.feed(H("AD00"))) == [H("0200")]
 
 
+def test_table_debug_echo(model: Model) -> None:
+    assert pk(model.feed(H("0203170102"))) == [H("0203170102")]
+
+
 def test_table_as_one_session() -> None:
     """The whole table in order, as one host session."""
     m = Model(Params(), pins=0b10001)
@@ -130,6 +135,7 @@ def test_table_as_one_session() -> None:
         ("02041A0201FF", "02028009"),
         ("020163", "02028008"),
         ("AD00", "0200"),
+        ("0203170102", "0203170102"),
     ]
     for sent, reply in rows:
         out = m.reset() if not sent else m.feed(H(sent))
@@ -139,13 +145,28 @@ def test_table_as_one_session() -> None:
 
 # ---------------------------------------------------------------- §2 messages, precedence
 
-@pytest.mark.parametrize("code", [c for c in range(256) if c not in (0, 26, 27, 28, 29)])
+@pytest.mark.parametrize("code", [c for c in range(256) if c not in (0, 23, 26, 27, 28, 29)])
 @pytest.mark.parametrize("n", [1, 2, 8])
 def test_invalid_any_length(code: int, n: int) -> None:
     """cmdInvalid comes first, whatever N (codes 4 and 0x80 included)."""
     m = Model()
     data = [code] + [0] * (n - 1)
     assert pk(m.feed(packet(2, *data))) == [message(2, MSG_CMD_INVALID)]
+
+
+@pytest.mark.parametrize("n", range(1, 9))
+def test_debug_echo_any_length(n: int) -> None:
+    """cmdDEBUG: the packet back unchanged for any N from 1 to 8 (never cmdTooShort/TooLong)."""
+    m = Model()
+    sent = packet(2, CMD_DEBUG, *range(0xF1, 0xF0 + n))
+    assert pk(m.feed(sent)) == [sent]
+    assert pk(m.feed(H("020117"))) == [H("020117")]
+
+
+def test_debug_other_address_and_serial_error() -> None:
+    m = Model()
+    assert pk(m.feed(packet(4, CMD_DEBUG, 1, 2))) == []
+    assert pk(m.feed(H("020917"))) == [message(2, MSG_SERIAL_ERROR)]
 
 
 @pytest.mark.parametrize("cmd", [CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD])
