@@ -44,6 +44,10 @@ MUTANTS = [
      "wire start    = req_i && !mid_q && !stall_q && !msg_q;",
      "wire start    = req_i && !mid_q && !msg_q;",
      "the message takes over from a stalled stream byte"),
+    ("bsd_uart_tx", "prove", "bsd_uart_tx.v",
+     "ready_q <= (left_q == 4'd1) && (cnt_q == CNT_ONE);",
+     "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);",
+     "ready a bit early: the next byte cuts the stop bit short"),
 ]
 
 
