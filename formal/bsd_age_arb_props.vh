@@ -6,13 +6,13 @@
 // would need a wider age; the design's matrix has no such limit).
     reg          f_past_valid = 1'b0;
     reg  [3:0]   f_age [0:K-1];
-    integer      f_i, f_j;
+    integer      f_i, f_j, f_c;  // f_c: the clocked block's own loop variable
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
-        for (f_i = 0; f_i < K; f_i = f_i + 1)
-            if (born[f_i]) f_age[f_i] <= 4'd0;
-            else if (req_q[f_i] && f_age[f_i] != 4'd15) f_age[f_i] <= f_age[f_i] + 4'd1;
+        for (f_c = 0; f_c < K; f_c = f_c + 1)
+            if (born[f_c]) f_age[f_c] <= 4'd0;
+            else if (req_q[f_c] && f_age[f_c] != 4'd15) f_age[f_c] <= f_age[f_c] + 4'd1;
     end
 
     // j ranks before i: older, or born on the same clock with a lower index.
@@ -21,6 +21,7 @@
     endfunction
 
     always @(*) begin
+        f_j = 0;
         if (!f_past_valid) assume(rst);
         for (f_i = 0; f_i < K; f_i = f_i + 1)
             if (req_q[f_i]) assume(f_age[f_i] != 4'd15);
@@ -44,5 +45,5 @@
 
     always @(*) if (f_past_valid && !rst) begin
         cover(gnt[K-1] && cand[0]);                  // a higher index wins by age
-        cover(gnt[1] && cand[2] && f_age[1] == f_age[2]);  // a tie goes to the lower index
+        cover(gnt[0] && cand[K-1] && f_age[0] == f_age[K-1]);  // a tie goes to the lower index
     end

@@ -26,6 +26,8 @@
     integer f_k;
     reg [WIDTH-1:0] f_exp;
     always @(*) begin
+        f_k = 0;
+        f_exp = {WIDTH{1'b0}};
         if (!f_past_valid) assume(rst);
         if (f_past_valid && !f_rst_q && f_sv_q && !f_sr_q) begin
             assume(s_axis_tvalid);

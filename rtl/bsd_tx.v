@@ -143,5 +143,9 @@ module bsd_tx #(
     end
 `endif
 `endif
+
+`ifdef FORMAL
+`include "bsd_tx_props.vh"
+`endif
 endmodule
 `default_nettype wire
