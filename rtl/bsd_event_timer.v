@@ -120,5 +120,9 @@ module bsd_event_timer (
             result_q   <= 16'd0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_event_timer_props.vh"
+`endif
 endmodule
 `default_nettype wire

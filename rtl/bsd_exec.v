@@ -275,5 +275,19 @@ module bsd_exec #(
     assign dio_rflx_o   = dio_rflx;
     assign dio_id_o     = dev_id_q;
     assign dio_val_o    = pin_level_q;
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the formal props assert it
+    // Packets come at least three clocks apart (the two stages never overlap).
+    reg chk_pkt1_q, chk_pkt2_q;
+    always @(posedge clk) begin
+        if (!rst && pkt_valid_i && (chk_pkt1_q || chk_pkt2_q))
+            $fatal(1, "bsd_exec: a packet %0d clock(s) after the previous one (at least 3 apart)",
+                   chk_pkt1_q ? 1 : 2);
+        chk_pkt1_q <= pkt_valid_i && !rst;
+        chk_pkt2_q <= chk_pkt1_q && !rst;
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

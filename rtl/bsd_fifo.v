@@ -89,5 +89,20 @@ module bsd_fifo #(
             out_valid_q <= 1'b0;
         end
     end
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the formal props assert it
+    // The invariant above, checked: a read and a write of one RAM address on one clock
+    // would make the RAM's read-during-write behaviour matter.
+    always @(posedge clk) begin
+        if (!rst && push && pop && wr_q[AW-1:0] == rd_q[AW-1:0])
+            $fatal(1, "bsd_fifo: RAM read and write of address %0d on one clock", rd_q[AW-1:0]);
+    end
+`endif
+`endif
+
+`ifdef FORMAL
+`include "bsd_fifo_props.vh"
+`endif
 endmodule
 `default_nettype wire

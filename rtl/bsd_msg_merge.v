@@ -70,5 +70,9 @@ module bsd_msg_merge #(
             idx_q   <= 2'd0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_msg_merge_props.vh"
+`endif
 endmodule
 `default_nettype wire

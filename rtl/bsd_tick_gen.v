@@ -60,6 +60,10 @@ module bsd_tick_gen #(
                 end
             end
 
+`ifdef FORMAL
+`include "bsd_tick_gen_props.vh"
+`endif
+
 `ifndef SYNTHESIS
             initial begin
                 if (RATE_HZ > CLK_HZ)

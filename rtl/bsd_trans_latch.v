@@ -42,5 +42,9 @@ module bsd_trans_latch (
             fire_q  <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_trans_latch_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -125,5 +125,40 @@ module bsd_tx #(
     assign m_axis_tdata  = buf_q[79:72];
     assign m_axis_tvalid = valid_q;
     assign m_axis_tlast  = last_q;
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the formal props assert it
+    // A source keeps its request up, and its packet (N and its first N data bytes)
+    // unchanged, from its request until done_o pulses for it.
+    reg  [K-1:0]    chk_req_q;
+    reg  [K-1:0]    chk_done_q;
+    reg  [3*K-1:0]  chk_n_q;
+    reg  [32*K-1:0] chk_data_q;
+    // The bytes of a packet of N data bytes within data_i's 32 bits (d0 on top).
+    function [31:0] chk_mask(input [2:0] n);
+        chk_mask = ~(32'hFFFFFFFF >> (8 * n));
+    endfunction
+    integer c;
+    always @(posedge clk) begin
+        for (c = 0; c < K; c = c + 1) begin
+            if (!rst && chk_req_q[c] && !chk_done_q[c]) begin
+                if (!req_i[c])
+                    $fatal(1, "bsd_tx: source %0d dropped its request before done_o", c);
+                if (n_i[3*c +: 3] != chk_n_q[3*c +: 3]
+                        || ((data_i[32*c +: 32] ^ chk_data_q[32*c +: 32]) & chk_mask(n_i[3*c +: 3])) != 32'd0)
+                    $fatal(1, "bsd_tx: source %0d changed its packet before done_o", c);
+            end
+        end
+        chk_req_q  <= rst ? {K{1'b0}} : req_i;
+        chk_done_q <= done;
+        chk_n_q    <= n_i;
+        chk_data_q <= data_i;
+    end
+`endif
+`endif
+
+`ifdef FORMAL
+`include "bsd_tx_props.vh"
+`endif
 endmodule
 `default_nettype wire

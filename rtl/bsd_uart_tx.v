@@ -75,5 +75,9 @@ module bsd_uart_tx #(
             ready_q <= 1'b1;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_uart_tx_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -1,0 +1,68 @@
+// Formal properties of bsd_fifo (included at the end of the module under `ifdef FORMAL).
+// The source obeys AXI-Stream and sends 0, 1, 2, ... (mod 2^WIDTH) (assumed: data
+// independence); the output must obey AXI-Stream and carry the same sequence (no word lost,
+// duplicated or reordered). Full and empty are exact, and the RAM is never read and
+// written at one address on one clock.
+    reg             f_past_valid = 1'b0;
+    reg             f_rst_q, f_sv_q, f_sr_q, f_mv_q, f_mr_q;
+    reg [WIDTH-1:0] f_sd_q, f_md_q;
+    reg [WIDTH-1:0] f_in_cnt, f_out_cnt;
+    wire [WIDTH-1:0] f_held = f_in_cnt - f_out_cnt;
+    wire [AW:0]      f_ram  = wr_q - rd_q;
+
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_rst_q <= rst;
+        f_sv_q <= s_axis_tvalid; f_sr_q <= s_axis_tready; f_sd_q <= s_axis_tdata;
+        f_mv_q <= m_axis_tvalid; f_mr_q <= m_axis_tready; f_md_q <= m_axis_tdata;
+        if (s_axis_tvalid && s_axis_tready) f_in_cnt  <= f_in_cnt + 1'b1;
+        if (m_axis_tvalid && m_axis_tready) f_out_cnt <= f_out_cnt + 1'b1;
+        if (rst) begin
+            f_in_cnt  <= {WIDTH{1'b0}};
+            f_out_cnt <= {WIDTH{1'b0}};
+        end
+    end
+
+    integer f_k;
+    reg [WIDTH-1:0] f_exp;
+    always @(*) begin
+        f_k = 0;
+        f_exp = {WIDTH{1'b0}};
+        if (!f_past_valid) assume(rst);
+        if (f_past_valid && !f_rst_q && f_sv_q && !f_sr_q) begin
+            assume(s_axis_tvalid);
+            assume(s_axis_tdata == f_sd_q);
+        end
+        if (s_axis_tvalid) assume(s_axis_tdata == f_in_cnt);
+        if (f_past_valid && !f_rst_q) begin
+            if (f_mv_q && !f_mr_q) begin
+                assert(m_axis_tvalid);
+                assert(m_axis_tdata == f_md_q);
+            end
+            if (m_axis_tvalid) assert(m_axis_tdata == f_out_cnt);
+            // Occupancy: the RAM's words plus the output register's.
+            assert(f_ram <= DEPTH);
+            assert(f_held == f_ram + {{(WIDTH-1){1'b0}}, out_valid_q});
+            // Full and empty exact.
+            assert(ram_empty_q == (f_ram == 0));
+            assert(ram_full_q == (f_ram == DEPTH));
+            assert(s_axis_tready == (f_ram != DEPTH));
+            assert(empty_o == (f_held == 0));
+            // Never a read and a write of one RAM address on one clock.
+            assert(!(push && pop && wr_q[AW-1:0] == rd_q[AW-1:0]));
+            // Induction: the RAM holds the next words in order.
+            for (f_k = 0; f_k < DEPTH; f_k = f_k + 1)
+                if (f_k < f_ram) begin
+                    f_exp = f_out_cnt + out_valid_q + f_k;
+                    assert(mem[(rd_q[AW-1:0] + f_k) % DEPTH] == f_exp);
+                end
+        end
+    end
+
+    reg f_was_full = 1'b0;
+    always @(posedge clk) if (ram_full_q) f_was_full <= 1'b1;
+    always @(*) if (f_past_valid && !rst) begin
+        cover(ram_full_q && out_valid_q);            // DEPTH + 1 words held
+        cover(f_was_full && empty_o);                // filled, then drained
+        cover(push && pop);                          // a write and a read on one clock
+    end

