@@ -26,9 +26,8 @@ from typing import Callable, Optional, Sequence, TextIO
 from . import __version__
 from . import protocol as P
 from .errors import BrainStemError, ModuleError, PortError, Timeout
-from .framing import Packet
 from .link import Link, LinkEvent
-from .module import DigCfg, Module
+from .module import Module
 
 PROG = "brainstem-dio"
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterable, Optional, Sequence, Union
 
 from . import protocol as P
-from .errors import LinkError, ModuleError, ProtocolError, module_error
+from .errors import ProtocolError, module_error
 from .framing import Packet
 from .link import Link, TimerWaiter, Transaction, exact_match
 

@@ -8,11 +8,38 @@ from __future__ import annotations
 import pytest
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from bsd_model import CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_RFLX, DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_TRG, MAX_DATA, RESYNC_ADDR, TICK_S, packet
+from bsd_model import (
+    CMD_DEBUG,
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_DIG_RST,
+    CMD_HB,
+    CMD_PTIME_RD,
+    DEVCODE_HOST,
+    DEVCODE_RFLX,
+    DIGCFG_ENA,
+    DIGCFG_IODIR,
+    DIGCFG_TRG,
+    MAX_DATA,
+    RESYNC_ADDR,
+    TICK_S,
+    packet,
+)
 from bsd_tb import _hex
 from suite import Suite
 from top_builds import BUILDS
-from top_helpers import A, FLAGS, OUT_OF_RANGE, P, configure, input_pins, measure, need, set_pins_checked, setup
+from top_helpers import (
+    FLAGS,
+    OUT_OF_RANGE,
+    A,
+    P,
+    configure,
+    input_pins,
+    measure,
+    need,
+    set_pins_checked,
+    setup,
+)
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 

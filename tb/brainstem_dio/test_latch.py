@@ -11,12 +11,21 @@ import cocotb
 import pytest
 from cocotb.triggers import ReadOnly, RisingEdge, Timer
 
-from bsd_model import (CMD_DIG_CFG, CMD_DIG_RST, DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_TRG, Model,
-                       Output, Params, packet)
+from bsd_model import (
+    CMD_DIG_CFG,
+    CMD_DIG_RST,
+    DIGCFG_ENA,
+    DIGCFG_IODIR,
+    DIGCFG_TRG,
+    Model,
+    Output,
+    Params,
+    packet,
+)
 from bsd_tb import TB, TBError
 from suite import Suite
 from top_builds import BUILDS
-from top_helpers import A, OUT_OF_RANGE, P, configure, need, set_pins_checked, setup
+from top_helpers import OUT_OF_RANGE, A, P, configure, need, set_pins_checked, setup
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 

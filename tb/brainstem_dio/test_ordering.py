@@ -8,11 +8,37 @@ from __future__ import annotations
 
 import pytest
 
-from bsd_model import CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_RFLX, DIGCFG_IODIR, DIGCFG_TSTATE, Output, RESYNC_ADDR, TICK_S, packet, timer_interval
+from bsd_model import (
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_DIG_RST,
+    CMD_PTIME_RD,
+    DEVCODE_HOST,
+    DEVCODE_RFLX,
+    DIGCFG_IODIR,
+    DIGCFG_TSTATE,
+    RESYNC_ADDR,
+    TICK_S,
+    Output,
+    packet,
+    timer_interval,
+)
 from bsd_tb import TBError, _hex
 from suite import Suite
 from top_builds import BUILDS
-from top_helpers import A, P, check_result, configure, measure, need, set_pins_checked, settle_pins, setup, start_timer, timer_value
+from top_helpers import (
+    A,
+    P,
+    check_result,
+    configure,
+    measure,
+    need,
+    set_pins_checked,
+    settle_pins,
+    setup,
+    start_timer,
+    timer_value,
+)
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 

@@ -10,12 +10,26 @@ import random
 
 import pytest
 
-from bsd_model import CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_PTIME_RD, DIGCFG_IODIR, MAX_DATA, Model, Output, RESYNC_ADDR, TIMER_TIMEOUT_S, packet
+from bsd_model import (
+    CMD_DEBUG,
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_DIG_RST,
+    CMD_HB,
+    CMD_PTIME_RD,
+    DIGCFG_IODIR,
+    MAX_DATA,
+    RESYNC_ADDR,
+    TIMER_TIMEOUT_S,
+    Model,
+    Output,
+    packet,
+)
 from bsd_tb import TB, TBError, _hex
 from runner import test_args
 from suite import Suite
 from top_builds import BUILDS
-from top_helpers import A, FLAGS, OUT_OF_RANGE, P
+from top_helpers import FLAGS, OUT_OF_RANGE, A, P
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 

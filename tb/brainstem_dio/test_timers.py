@@ -13,14 +13,40 @@ import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 import figures
-from bsd_model import (CMD_DIG_CFG, CMD_DIG_IO, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_RFLX,
-                       DIGCFG_IODIR, DIGCFG_TMODE, DIGCFG_TSTATE, TICK_HZ, TIMER_TIMEOUT_S, Model,
-                       packet, timer_interval)
+from bsd_model import (
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_PTIME_RD,
+    DEVCODE_HOST,
+    DEVCODE_RFLX,
+    DIGCFG_IODIR,
+    DIGCFG_TMODE,
+    DIGCFG_TSTATE,
+    TICK_HZ,
+    TIMER_TIMEOUT_S,
+    Model,
+    packet,
+    timer_interval,
+)
 from bsd_tb import TB, TBError
 from runner import test_args
 from suite import Suite
 from top_builds import BUILDS
-from top_helpers import A, FLAGS, P, check_result, configure, finish_timers, input_pins, measure, need, set_pins_checked, setup, start_timer, timer_value
+from top_helpers import (
+    FLAGS,
+    A,
+    P,
+    check_result,
+    configure,
+    finish_timers,
+    input_pins,
+    measure,
+    need,
+    set_pins_checked,
+    setup,
+    start_timer,
+    timer_value,
+)
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS)
 

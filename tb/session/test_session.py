@@ -5,7 +5,6 @@ every kind of bad script line stops the run with file:line and a clear message."
 from __future__ import annotations
 
 import fcntl
-import os
 import subprocess
 from pathlib import Path
 
