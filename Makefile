@@ -15,7 +15,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-full formal test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-full test-time formal test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -199,6 +199,11 @@ test: lint $(FORMAL_STAMP)
 
 test-full: lint $(FORMAL_STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
+
+# Where make test's time goes, measured on a fresh clone of HEAD (venv, builds per simulator,
+# simulation per test file, pytest-xdist idle time) -> the test-time table of docs/benchmarks.md.
+test-time: $(STAMP)
+	$(VPY) sim/test_time.py --write --jobs $(JOBS)
 
 # The host library's own tests alone (no simulator).
 test-host: $(STAMP)
