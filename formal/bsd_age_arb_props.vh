@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_age_arb (included at the end of the module under `ifdef FORMAL).
 // A reference model keeps each pending requester's age (clocks since it was born, saturating
 // at 15). Among the candidates (req_q & ~exclude_i) the grant goes to the oldest, the lowest

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_axis_skid (included at the end of the module under `ifdef FORMAL).
 // The input obeys AXI-Stream (assumed); the output must (asserted). Data independence: the
 // source sends the numbers 0, 1, 2, ... (mod 2^WIDTH), so the output must carry the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_event_timer (included at the end of the module under `ifdef FORMAL).
 // The counts never wrap (count <= elapsed <= 65 534 while running), a completed
 // measurement's result is at least 1, a timeout (with no completion on that clock) gives

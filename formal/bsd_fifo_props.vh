@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_fifo (included at the end of the module under `ifdef FORMAL).
 // The source obeys AXI-Stream and sends 0, 1, 2, ... (mod 2^WIDTH) (assumed: data
 // independence); the output must obey AXI-Stream and carry the same sequence (no word lost,

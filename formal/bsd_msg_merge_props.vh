@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_msg_merge (included at the end of the module under `ifdef FORMAL).
 // The stream input obeys AXI-Stream and req_i stays up until done_o (assumed). Asserted:
 // the output obeys AXI-Stream (a stalled byte stays, with its tlast: never switching away

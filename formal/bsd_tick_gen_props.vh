@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_tick_gen (included at the end of its g_accumulator block under
 // `ifdef FORMAL). In every window of F_WINDOW clocks (define F_WINDOW, set per task) the
 // strobe count lies between floor and ceil of F_WINDOW * RATE_HZ / CLK_HZ; so it never

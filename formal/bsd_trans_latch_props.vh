@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_trans_latch (included at the end of the module under `ifdef FORMAL).
 // f_ref is the level the latch compares with: the level at arming, then each sample's.
 // At most one fire per arm; a fire needs a sampled level that differs from f_ref and

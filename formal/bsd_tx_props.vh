@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_tx (included at the end of the module under `ifdef FORMAL; the
 // arbiter's own properties come along, with their assumption that a request waits at most
 // 14 clocks). Sources (assumed): N <= 4, and from its request until its done_o a source
@@ -31,7 +32,9 @@
                 f_d = f_d | data_i[32*f_s +: 32];
             end
     end
-    wire [47:0] f_ref = {ADDR_OWN, 5'd0, f_n, f_d} << (8 * f_idx);
+    // The job has no long source (LONG_SRC = -1), so a packet is at most 6 bytes and the
+    // output register's low 32 bits (d4..d7 of a long packet) stay 0.
+    wire [79:0] f_ref = {ADDR_OWN, 5'd0, f_n, f_d, 32'd0} << (8 * f_idx);
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -73,12 +76,12 @@
                 // One source, its packet byte by byte, tlast on byte N + 2.
                 assert(cur_q != {K{1'b0}} && (cur_q & (cur_q - 1'b1)) == {K{1'b0}});
                 assert((cur_q & req_i) == cur_q);
-                assert(m_axis_tdata == f_ref[47:40]);
+                assert(m_axis_tdata == f_ref[79:72]);
                 assert(m_axis_tlast == ({1'b0, f_idx} == f_n + 3'd1));
                 assert(f_idx <= f_n + 3'd1);
                 // Induction: the shift register holds the rest of the packet.
                 assert(buf_q == f_ref);
-                assert(left_q == f_n + 3'd2 - f_idx);
+                assert(left_q == {1'b0, f_n} + 4'd2 - {1'b0, f_idx});
                 assert(last_q == (left_q == 3'd1));
             end else begin
                 assert(cur_q == {K{1'b0}});

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_uart_tx (included at the end of the module under `ifdef FORMAL).
 // A reference frame: from the clock after a byte is taken, the line carries the start bit
 // (0), the 8 data bits LSB first and the stop bit (1), DIV clocks each; the line is high

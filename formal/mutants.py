@@ -49,7 +49,7 @@ MUTANTS = [
      "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);",
      "ready a bit early: the next byte cuts the stop bit short"),
     ("bsd_tx", "prove", "bsd_tx.v",
-     "left_q  <= sel_n + 3'd2;", "left_q  <= sel_n + 3'd1;",
+     "left_q  <= sel_n + 4'd2;", "left_q  <= sel_n + 4'd1;",
      "tlast one byte early (on byte N + 1)"),
 ]
 

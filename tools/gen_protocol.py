@@ -25,7 +25,7 @@ OUTPUTS: list[tuple[str, str]] = [
     ("rtl/bsd_protocol.vh", "verilog"),
     ("sim/bsd_protocol.h", "cpp"),
     ("sim/bsd_protocol.mk", "make"),
-    ("tb/lib/bsd_protocol.py", "python"),
+    # One Python copy, in the host library; tb/lib/bsd_protocol.py re-exports it.
     ("host/brainstem_dio/_protocol_table.py", "python"),
 ]
 

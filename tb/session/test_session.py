@@ -4,11 +4,12 @@ every kind of bad script line stops the run with file:line and a clear message."
 
 from __future__ import annotations
 
-import fcntl
 import subprocess
 from pathlib import Path
 
 import pytest
+
+from harness import make_built
 
 ROOT = Path(__file__).resolve().parents[2]
 MAKE_VARS = ["CLK_HZ=48000000"]  # and the other GP 1.0 defaults
@@ -16,15 +17,7 @@ MAKE_VARS = ["CLK_HZ=48000000"]  # and the other GP 1.0 defaults
 
 @pytest.fixture(scope="session")
 def session_bin() -> Path:
-    # One build, whichever xdist worker gets here first.
-    lock_path = ROOT / "sim" / "build" / ".lock"
-    lock_path.parent.mkdir(parents=True, exist_ok=True)
-    with open(lock_path, "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        subprocess.run(["make", "-s", "sim-build", *MAKE_VARS], cwd=ROOT, check=True)
-    path = subprocess.run(["make", "-s", "--no-print-directory", "sim-path", *MAKE_VARS], cwd=ROOT,
-                          check=True, capture_output=True, text=True).stdout.strip()
-    return ROOT / path
+    return make_built("sim-build", "sim-path", MAKE_VARS)
 
 
 def play(session_bin: Path, script: Path) -> subprocess.CompletedProcess[str]:

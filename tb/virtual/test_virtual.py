@@ -11,7 +11,6 @@ checks that the simulation is fast, only that it is never ahead of the wall cloc
 
 from __future__ import annotations
 
-import fcntl
 import os
 import re
 import resource
@@ -19,75 +18,23 @@ import select
 import signal
 import subprocess
 import termios
-import threading
 import time
 from pathlib import Path
 from typing import Callable, Iterator
 
 import pytest
 
+from harness import TIMEOUT, Lines, make_built
+
 ROOT = Path(__file__).resolve().parents[2]
 MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]  # and the other GP 1.0 defaults
 A = 2  # module address
-TIMEOUT = 30.0  # wall seconds for anything to happen, however loaded the machine
 HB = (A, 2, 0)  # a heartbeat packet starts so
 
 
 @pytest.fixture(scope="session")
 def virtual_bin() -> Path:
-    # One build, whichever xdist worker gets here first (the session runner's lock: the two
-    # builds need not run at once on a small machine).
-    lock_path = ROOT / "sim" / "build" / ".lock"
-    lock_path.parent.mkdir(parents=True, exist_ok=True)
-    with open(lock_path, "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        subprocess.run(["make", "-s", "virtual-build", *MAKE_VARS], cwd=ROOT, check=True)
-    path = subprocess.run(["make", "-s", "--no-print-directory", "virtual-path", *MAKE_VARS], cwd=ROOT,
-                          check=True, capture_output=True, text=True).stdout.strip()
-    return ROOT / path
-
-
-class Lines:
-    """The lines of one of the process's output streams, collected by a thread."""
-
-    def __init__(self, stream) -> None:
-        self.lines: list[str] = []
-        self.cond = threading.Condition()
-        self.closed = False
-        threading.Thread(target=self._read, args=(stream,), daemon=True).start()
-
-    def _read(self, stream) -> None:
-        for raw in stream:
-            with self.cond:
-                self.lines.append(raw.decode(errors="replace").rstrip("\n"))
-                self.cond.notify_all()
-        with self.cond:
-            self.closed = True
-            self.cond.notify_all()
-
-    def wait(self, pattern: str, start: int = 0, timeout: float = TIMEOUT) -> int:
-        """Index of the first line from `start` on that matches the regex `pattern`."""
-        rx = re.compile(pattern)
-        deadline = time.monotonic() + timeout
-        with self.cond:
-            i = start
-            while True:
-                while i < len(self.lines):
-                    if rx.search(self.lines[i]):
-                        return i
-                    i += 1
-                left = deadline - time.monotonic()
-                if left <= 0 or self.closed:
-                    raise AssertionError(f"no line matching {pattern!r}; got:\n" + "\n".join(self.lines[start:]))
-                self.cond.wait(left)
-
-    def __len__(self) -> int:
-        with self.cond:
-            return len(self.lines)
-
-    def text(self) -> str:
-        with self.cond:
-            return "\n".join(self.lines)
+    return make_built("virtual-build", "virtual-path", MAKE_VARS)
 
 
 class Virtual:
