@@ -31,6 +31,7 @@ SUITE = Suite(__file__, "bsd_heartbeat", {"hb0": {"HB_RATE": 0}, "hb1": {"HB_RAT
 class HbModel:
     def __init__(self, rate: int) -> None:
         self.period = rate * HB_UNIT_TICKS
+        self.due_count = self.skipped = 0  # statistics over the whole test (kept by reset)
         self.reset()
 
     def reset(self) -> None:
@@ -39,7 +40,6 @@ class HbModel:
         self.answered = False
         self.req = False
         self.link_up = False
-        self.due_count = self.skipped = 0
 
     def step(self, v: dict) -> None:
         due = False
