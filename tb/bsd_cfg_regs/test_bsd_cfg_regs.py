@@ -1,0 +1,173 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_cfg_regs, and their pytest entry.
+
+Checked against PROTOCOL.md §3 (DIGCFG byte: a DIG_CFG set stores bits 4:0; FIXED pins),
+§6 (power-up: DIGCFG 0x01, or FIXED_CFG's bits 4:0 on a fixed pin, with a fixed ENA armed;
+output latch 0) and the block's header comment (fixed pins ignore configuration writes, their
+output latch stays writable). The writes land at the edge that sees them; cfg_o and out_o
+come from flops (or constants). CfgModel is compared with both outputs after every clock.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from bsd_protocol import DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED
+from clocked_tb import ClockedTB
+from runner import hdl_params
+from suite import Suite
+
+# pins7-fixed: pins 1, 3 and 6 fixed; pin 3 an input with ENA (0x13 | junk in bits 7:5,
+# which must not show), pin 1 an output, pin 6 an input with TMODE/TSTATE/TRG.
+FIXED_CFG7 = (0x1D << 48) | (0xE3 << 24) | (0xA0 << 8) | 0x5A  # pin 0's byte: unused
+SUITE = Suite(__file__, "bsd_cfg_regs", {
+    "pins5": {"NUM_PINS": 5},
+    "pins7-fixed": {"NUM_PINS": 7, "FIXED_MASK": "7'b1001010", "FIXED_CFG": f"56'h{FIXED_CFG7:x}"},
+    "pins1-fixed": {"NUM_PINS": 1, "FIXED_MASK": "1'b1", "FIXED_CFG": "8'h03"},
+})
+
+
+def vint(v: object) -> int:
+    """A parameter value: an int or a Verilog literal such as 7'b1001010."""
+    if isinstance(v, int):
+        return v
+    s = str(v).replace("_", "")
+    if "'" in s:
+        base = {"b": 2, "h": 16, "d": 10, "o": 8}[s.split("'")[1][0].lower()]
+        return int(s.split("'")[1][1:], base)
+    return int(s)
+
+
+class CfgModel:
+    def __init__(self, n: int, fixed_mask: int, fixed_cfg: int) -> None:
+        self.n, self.fixed_mask, self.fixed_cfg = n, fixed_mask, fixed_cfg
+        self.reset()
+
+    def fixed(self, p: int) -> bool:
+        return bool((self.fixed_mask >> p) & 1)
+
+    def reset(self) -> None:
+        self.cfg = [((self.fixed_cfg >> (8 * p)) & DIGCFG_STORED) if self.fixed(p) else DIGCFG_RESET
+                    for p in range(self.n)]
+        self.out = [0] * self.n
+
+    def step(self, v: dict) -> None:
+        p = v["pin_idx_i"]
+        if p < self.n:
+            if v["cfg_we_i"] and not self.fixed(p):
+                self.cfg[p] = v["cfg_wdata_i"] & DIGCFG_STORED
+            if v["out_we_i"]:
+                self.out[p] = v["out_wdata_i"]
+
+    def outputs(self) -> dict[str, int]:
+        return dict(cfg_o=sum(c << (5 * p) for p, c in enumerate(self.cfg)),
+                    out_o=sum(o << p for p, o in enumerate(self.out)))
+
+
+class CfgTB(ClockedTB):
+    INPUTS = dict(cfg_we_i=0, out_we_i=0, pin_idx_i=0, cfg_wdata_i=0, out_wdata_i=0)
+    PULSES = ("cfg_we_i", "out_we_i")
+    OUTPUTS = ("cfg_o", "out_o")
+
+    def __init__(self, dut) -> None:
+        super().__init__(dut, "cfg_regs")
+        p = hdl_params()
+        self.n = int(p["NUM_PINS"])
+        self.model = CfgModel(self.n, vint(p.get("FIXED_MASK", 0)), vint(p.get("FIXED_CFG", 0)))
+
+    def check(self, inputs, outputs, rst) -> None:
+        if rst:
+            self.model.reset()
+        else:
+            self.model.step(inputs)
+        exp = self.model.outputs()
+        assert dict(outputs) == exp, f"{inputs} rst={rst}: DUT {outputs} != model {exp}"
+
+    def cfg(self, out: dict, p: int) -> int:
+        return (out["cfg_o"] >> (5 * p)) & 0x1F
+
+
+@SUITE.test()
+async def test_reset_values(dut) -> None:
+    """After reset: every free pin 0x01 (input, disarmed), every fixed pin FIXED_CFG's bits
+    4:0 (ENA as given: armed), every output latch 0; also after writes and a second reset."""
+    tb = CfgTB(dut)
+    await tb.reset()
+    out = await tb.step()
+    for p in range(tb.n):
+        exp = tb.model.cfg[p]
+        assert tb.cfg(out, p) == exp
+        if not tb.model.fixed(p):
+            assert exp == DIGCFG_RESET
+    assert out["out_o"] == 0
+    for p in range(tb.n):
+        await tb.step(cfg_we_i=1, out_we_i=1, pin_idx_i=p, cfg_wdata_i=0x1E, out_wdata_i=1)
+    await tb.reset(1)
+    out = await tb.step()
+    assert out["out_o"] == 0 and out == tb.model.outputs()
+
+
+@SUITE.test("pins7-fixed", "pins1-fixed")
+async def test_fixed_read_only(dut) -> None:
+    """Configuration writes to a fixed pin change nothing (its latch stays writable);
+    a fixed pin with ENA in FIXED_CFG reads armed from reset on."""
+    tb = CfgTB(dut)
+    await tb.reset()
+    fixed = [p for p in range(tb.n) if tb.model.fixed(p)]
+    out = await tb.step()
+    assert any(tb.cfg(out, p) & DIGCFG_ENA for p in fixed), "build has no armed fixed pin"
+    for p in fixed:
+        before = tb.cfg(out, p)
+        for w in (0x00, 0x1F, before ^ 0x1F):
+            out = await tb.step(cfg_we_i=1, pin_idx_i=p, cfg_wdata_i=w)
+            assert tb.cfg(out, p) == before, f"fixed pin {p} took {w:#x}"
+        out = await tb.step(out_we_i=1, pin_idx_i=p, out_wdata_i=1)
+        assert (out["out_o"] >> p) & 1
+
+
+@SUITE.test()
+async def test_writes_one_pin(dut) -> None:
+    """A configuration write stores all of bits 4:0 of one pin only; an output write sets
+    one latch only; both on one clock go to the same pin; an index >= NUM_PINS writes nothing."""
+    tb = CfgTB(dut)
+    await tb.reset()
+    free = [p for p in range(tb.n) if not tb.model.fixed(p)]
+    for p in free:
+        for w in (0x1F, 0x00, 0x15, 0x0A, DIGCFG_IODIR):
+            before = await tb.step()
+            out = await tb.step(cfg_we_i=1, pin_idx_i=p, cfg_wdata_i=w)
+            assert tb.cfg(out, p) == w
+            for q in range(tb.n):
+                if q != p:
+                    assert tb.cfg(out, q) == tb.cfg(before, q)
+    for p in range(tb.n):
+        out = await tb.step(out_we_i=1, cfg_we_i=1, pin_idx_i=p, out_wdata_i=1, cfg_wdata_i=0)
+        assert (out["out_o"] >> p) & 1
+    assert out["out_o"] == (1 << tb.n) - 1
+    before = out
+    for idx in (tb.n, 63):
+        if idx < 64:
+            out = await tb.step(out_we_i=1, cfg_we_i=1, pin_idx_i=idx, out_wdata_i=0,
+                                cfg_wdata_i=0x1F)
+            assert out == before, f"index {idx} wrote something"
+    # a write enable of 0 writes nothing even with data on the ports
+    out = await tb.step(pin_idx_i=0, out_wdata_i=0, cfg_wdata_i=0x1F)
+    assert out == before
+
+
+@SUITE.test()
+async def test_random_vs_model(dut) -> None:
+    """Random writes (any index 0..63), enables and resets, compared every clock."""
+    tb = CfgTB(dut)
+    rng = tb.rng
+    await tb.reset()
+    for _ in range(3000):
+        idx = rng.randrange(tb.n + 2) if rng.random() < 0.9 else rng.randrange(64)
+        await tb.step(rst=int(rng.random() < 0.003), cfg_we_i=int(rng.random() < 0.4),
+                      out_we_i=int(rng.random() < 0.4), pin_idx_i=idx,
+                      cfg_wdata_i=rng.randrange(32), out_wdata_i=rng.randrange(2))
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_cfg_regs(case) -> None:
+    SUITE.run(case)

@@ -1,0 +1,236 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_reply_slot, and their pytest entry.
+
+Checked against DESIGN.md decision 2 (one command reply/message and one DIG_IO RFLX value
+can wait at a time; while either waits, or a packet is on its way through the executor, the
+parser must hold), PROTOCOL.md §6 (the power-up message `A, 2, 0x80, statePowerReset` is the
+first packet out) and the block's header comment: stage 2's reply becomes the request on
+the next clock (3 clocks after the last byte) and stays until rep_done_i; the RFLX value
+waits from dio_rflx_i until dio_done_i, with dio_below_o[p] = its ID < TIMER_ID_BASE + p;
+hold_o = pkt_valid_i, or a packet in the stages, or a slot full.
+
+SlotModel is that text; all outputs are sampled before each rising edge and compared with
+it on every clock. The system test plays the parser (a packet only while hold_o is 0),
+bsd_exec (stage 2 one clock after the packet, with a random decision) and the consumers
+(random done pulses), and checks that no reply or value is ever overwritten or lost.
+"""
+
+from __future__ import annotations
+
+import pytest
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
+
+from bsd_protocol import CMD_MSG, MSG_N, MSG_STATE_POWER_RESET
+from clocked_tb import ClockedTB
+from runner import hdl_params
+from suite import Suite
+
+SUITE = Suite(__file__, "bsd_reply_slot", {"pins5": {"NUM_PINS": 5, "TIMER_ID_BASE": 10},
+                                           "pins8-id56": {"NUM_PINS": 8, "TIMER_ID_BASE": 56}})
+POWER_UP = (MSG_N, [CMD_MSG, MSG_STATE_POWER_RESET])
+
+
+def word(data: list[int]) -> int:
+    return sum(b << (24 - 8 * j) for j, b in enumerate(data))
+
+
+class SlotModel:
+    def __init__(self, n: int, base: int) -> None:
+        self.n, self.base = n, base
+        self.reset()
+
+    def reset(self) -> None:
+        self.decided = False          # stage 2 chose a reply last clock
+        self.waiting = True           # the reply slot is full (the power-up message)
+        self.reply: tuple[int, list[int]] = POWER_UP
+        self.dio: tuple[int, int] | None = None
+        self.in_stages = True         # hold after reset until the power-up message left
+
+    @property
+    def rep_req(self) -> bool:
+        return self.decided or self.waiting
+
+    def outputs(self, v: dict) -> dict:
+        o = dict(hold_o=int(bool(v["pkt_valid_i"]) or self.in_stages), rep_req_o=int(self.rep_req),
+                 dio_req_o=int(self.dio is not None))
+        if self.rep_req:
+            o.update(rep_n_o=self.reply[0], _rep=self.reply[1][:self.reply[0]])
+        if self.dio is not None:
+            i = self.dio[0]
+            o.update(dio_id_o=i, dio_val_o=self.dio[1],
+                     dio_below_o=sum(1 << p for p in range(self.n) if i < self.base + p))
+        return o
+
+    def edge(self, v: dict) -> None:
+        waiting = self.rep_req and not v["rep_done_i"]
+        if v["s2_valid_i"] and not self.rep_req:
+            n = v["reply_n_i"]
+            self.reply = (n, [(v["reply_data_i"] >> (24 - 8 * j)) & 0xFF for j in range(4)])
+        self.decided, self.waiting = bool(v["reply_i"]), waiting
+        if v["dio_rflx_i"]:
+            self.dio = (v["dio_id_i"], v["dio_val_i"])
+        elif v["dio_done_i"]:
+            self.dio = None
+        self.in_stages = bool(v["pkt_valid_i"] or v["reply_i"] or waiting or self.dio is not None)
+
+
+class SlotTB(ClockedTB):
+    INPUTS = dict(pkt_valid_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
+                  dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0, dio_done_i=0)
+    PULSES = ("pkt_valid_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i", "dio_done_i")
+    OUTPUTS = ("hold_o", "rep_req_o", "rep_n_o", "rep_data_o", "dio_req_o", "dio_id_o",
+               "dio_val_o", "dio_below_o")
+
+    def __init__(self, dut) -> None:
+        super().__init__(dut, "reply_slot")
+        p = hdl_params()
+        self.n, self.base = int(p["NUM_PINS"]), int(p["TIMER_ID_BASE"])
+        self.model = SlotModel(self.n, self.base)
+        self.clocks = 0
+
+    async def step(self, rst: int = 0, **inputs: int) -> dict:
+        await FallingEdge(self.clk)
+        vals = self.drive(rst, **inputs)
+        await ReadOnly()
+        self.clocks += 1
+        if rst:
+            self.model.reset()
+            out: dict = {}
+        else:
+            out = self.sample()
+            exp = self.model.outputs(vals)
+            got = {k: out[k] for k in exp if not k.startswith("_")}
+            if "_rep" in exp:
+                got["_rep"] = [(out["rep_data_o"] >> (24 - 8 * j)) & 0xFF
+                               for j in range(exp["rep_n_o"])]
+            assert got == exp, f"clock {self.clocks} {vals}: DUT {got} != model {exp}"
+            self.model.edge(vals)
+        await RisingEdge(self.clk)
+        return out
+
+    def rep(self, out: dict) -> list[int]:
+        return [(out["rep_data_o"] >> (24 - 8 * j)) & 0xFF for j in range(out["rep_n_o"])]
+
+
+@SUITE.test()
+async def test_power_up_message(dut) -> None:
+    """After reset the slot holds `0x80, statePowerReset` and requests it, hold_o is 1 until
+    it has left; then the slot is free and hold_o 0."""
+    tb = SlotTB(dut)
+    await tb.reset()
+    for _ in range(5):
+        out = await tb.step()
+        assert out["rep_req_o"] == 1 and out["hold_o"] == 1
+        assert (out["rep_n_o"], tb.rep(out)) == POWER_UP
+    out = await tb.step(rep_done_i=1)
+    assert out["rep_req_o"] == 1 and out["hold_o"] == 1
+    out = await tb.step()
+    assert out["rep_req_o"] == 0 and out["hold_o"] == 0
+
+
+async def free(tb: SlotTB) -> None:
+    await tb.reset()
+    await tb.step(rep_done_i=1)
+    await tb.step()
+    await tb.step()
+
+
+@SUITE.test()
+async def test_reply_latency_and_hold(dut) -> None:
+    """pkt_valid_i raises hold_o at once; stage 2's reply is requested on the next clock
+    with its packet, held (and hold_o with it) until rep_done_i; a packet without a reply
+    holds for its two stages only."""
+    tb = SlotTB(dut)
+    await free(tb)
+    out = await tb.step(pkt_valid_i=1)
+    assert out["hold_o"] == 1
+    out = await tb.step(s2_valid_i=1, reply_i=1, reply_n_i=3, reply_data_i=word([4, 5, 1, 0x55]))
+    assert out["hold_o"] == 1 and out["rep_req_o"] == 0
+    for _ in range(4):
+        out = await tb.step()
+        assert (out["rep_req_o"], out["hold_o"], out["rep_n_o"]) == (1, 1, 3)
+        assert tb.rep(out) == [4, 5, 1]
+    await tb.step(rep_done_i=1)
+    out = await tb.step()
+    assert out["rep_req_o"] == 0
+    assert (await tb.step())["hold_o"] == 0
+    # no reply: hold for the packet's clock and stage 2, then free
+    holds = [(await tb.step(pkt_valid_i=1))["hold_o"], (await tb.step(s2_valid_i=1))["hold_o"],
+             (await tb.step())["hold_o"]]
+    assert holds == [1, 1, 0], holds
+
+
+@SUITE.test()
+async def test_rflx_value(dut) -> None:
+    """A DIG_IO RFLX value waits from the clock after dio_rflx_i until dio_done_i, with its
+    ID, level and the below-timer mask; hold_o while it waits."""
+    tb = SlotTB(dut)
+    await free(tb)
+    for dio_id in (0, tb.base - 1, tb.base + tb.n, 63):
+        if dio_id >= 64:
+            continue
+        await tb.step(pkt_valid_i=1)
+        await tb.step(s2_valid_i=1, dio_rflx_i=1, dio_id_i=dio_id, dio_val_i=1)
+        for _ in range(3):
+            out = await tb.step()
+            assert (out["dio_req_o"], out["dio_id_o"], out["dio_val_o"], out["hold_o"]) == \
+                (1, dio_id, 1, 1)
+        await tb.step(dio_done_i=1)
+        out = await tb.step()
+        assert out["dio_req_o"] == 0
+        assert (await tb.step())["hold_o"] == 0
+
+
+@SUITE.test()
+async def test_system_random(dut) -> None:
+    """The parser hands a packet only while hold_o is 0, stage 2 follows a clock later with
+    a random reply and/or RFLX value, consumers take them after random delays, rare resets:
+    every reply and value comes out once, in order, none overwritten."""
+    tb = SlotTB(dut)
+    rng = tb.rng
+    await tb.reset()
+    expect_rep: list[tuple[int, list[int]]] = [POWER_UP]
+    expect_dio: list[tuple[int, int]] = []
+    got_rep: list[tuple[int, list[int]]] = []
+    got_dio: list[tuple[int, int]] = []
+    pkt = s2 = False
+    hist: list = []
+    out = await tb.step()
+    for _ in range(4000):
+        kw: dict = {}
+        s2, pkt = pkt, False   # stage 2 on the clock after the packet
+        if s2:
+            kw["s2_valid_i"] = 1
+            if rng.random() < 0.6:
+                n = rng.randrange(5)
+                data = [rng.randrange(256) for _ in range(4)]
+                kw.update(reply_i=1, reply_n_i=n, reply_data_i=word(data))
+                assert not tb.model.rep_req, f"a reply decided while the slot is full {hist[-6:]}"
+                expect_rep.append((n, data[:n]))
+            if rng.random() < 0.3:
+                v = (rng.randrange(64), rng.randrange(2))
+                kw.update(dio_rflx_i=1, dio_id_i=v[0], dio_val_i=v[1])
+                assert tb.model.dio is None, "an RFLX value while its slot is full"
+                expect_dio.append(v)
+        # the consumers, from the state of this clock (the model, checked equal to the DUT)
+        m = tb.model
+        if m.rep_req and rng.random() < 0.25:
+            kw["rep_done_i"] = 1
+            got_rep.append((m.reply[0], m.reply[1][:m.reply[0]]))
+        if m.dio is not None and rng.random() < 0.4:
+            kw["dio_done_i"] = 1
+            got_dio.append(m.dio)
+        # the parser: a packet only on a clock after one with hold_o 0 (the handover)
+        if not out["hold_o"] and rng.random() < 0.7:
+            kw["pkt_valid_i"] = 1
+            pkt = True
+        out = await tb.step(rst=0, **kw)
+        hist.append((tb.clocks, kw, out))
+    assert got_rep == expect_rep[:len(got_rep)] and len(expect_rep) - len(got_rep) <= 1
+    assert got_dio == expect_dio[:len(got_dio)] and len(expect_dio) - len(got_dio) <= 1
+    assert len(got_rep) > 150 and len(got_dio) > 50, (len(got_rep), len(got_dio))
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_reply_slot(case) -> None:
+    SUITE.run(case)
