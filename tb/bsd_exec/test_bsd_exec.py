@@ -15,8 +15,10 @@ mean something with their strobe (pin_idx_o, write data, the timer's delivery bi
 reply's bytes past reply_n_o, the DIG_IO RFLX id/value) are compared only then. Compared
 after every clock.
 
-cmdDEBUG (23) is left out of the stimulus: the contract's echo is being added to this block
-in another branch; here it is still an unknown code.
+cmdDEBUG (23): any N from 1 to 8 is echoed as the reply, `A, N, 23, d1 .. d(N-1)` (its
+bytes past the fourth on reply_tail_o, taken from pkt_tail_i = d3..d7). The block's input
+contract (its parser) hands over packets at least three clocks apart; the block checks that
+in simulation, so every test spaces its packets so.
 """
 
 from __future__ import annotations
@@ -95,8 +97,11 @@ class ExecModel:
         elif d0 == CMD_HB:
             if n >= 2 and d1 in (HB_UP + HB_ANSWER_OFFSET, HB_DOWN + HB_ANSWER_OFFSET):
                 e.update(hb_answer_o=1, hb_answer_down_o=int(d1 == HB_DOWN + HB_ANSWER_OFFSET))
-        elif d0 not in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
+        elif d0 not in (CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
             msg(MSG_CMD_INVALID)
+        elif d0 == CMD_DEBUG:  # the echo, any N from 1 to 8, never cmdTooShort or cmdTooLong
+            tail = [(v["pkt_tail_i"] >> (32 - 8 * j)) & 0xFF for j in range(5)]
+            reply(*([d0, d1, d2] + tail)[:n])
         elif n == 1:
             msg(MSG_CMD_TOO_SHORT)
         elif d0 == CMD_DIG_CFG:
@@ -146,11 +151,11 @@ class ExecModel:
 
 class ExecTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_d0_i=0, pkt_d1_i=0,
-                  pkt_d2_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
+                  pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
     OUTPUTS = ALWAYS + ("pin_idx_o", "cfg_wdata_o", "out_wdata_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
-                        "dio_id_o", "dio_val_o")
+                        "reply_tail_o", "dio_id_o", "dio_val_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "exec")
@@ -166,8 +171,8 @@ class ExecTB(ClockedTB):
         got = {k: outputs[k] for k in exp if not k.startswith("_")}
         if exp.get("reply_o"):
             nb = exp["reply_n_o"]
-            data = outputs["reply_data_o"]
-            got["_reply_bytes"] = [(data >> (24 - 8 * j)) & 0xFF for j in range(nb)]
+            data = outputs["reply_data_o"] << 32 | outputs["reply_tail_o"]
+            got["_reply_bytes"] = [(data >> (56 - 8 * j)) & 0xFF for j in range(nb)]
             self.replies += 1
         assert got == {k: v for k, v in exp.items()}, (
             f"clock {self.clocks} {dict(inputs)}: DUT {got} != model {exp}")
@@ -186,6 +191,7 @@ class ExecTB(ClockedTB):
                               pkt_d0_i=d[0], pkt_d1_i=d[1], pkt_d2_i=d[2], **state)
         idle = await self.step()
         assert all(idle[k] == 0 for k in ALWAYS if k != "s2_valid_o"), "strobes held over"
+        await self.step()  # packets come at least three clocks apart
         return out
 
     def reply(self, out: dict) -> list[int] | None:
@@ -381,11 +387,13 @@ async def test_strobe_clock(dut) -> None:
     assert tb.reply(out) == [CMD_DEV_VAL, tb.model.pin_id_base, 1]
     out = await tb.step(**tb.state([0] * tb.n, level=0))  # state changes after the packet
     assert out["reply_o"] == 0 and out["s2_valid_o"] == 0
+    await tb.step(**tb.state([0] * tb.n, level=0))  # packets come at least three clocks apart
     out = await tb.step(pkt_valid_i=1, pkt_n_i=2, pkt_d0_i=CMD_PTIME_RD, pkt_d1_i=1,
                         **tb.state(inputs))
     assert out["timer_start_o"] == 0b10
     out = await tb.step(**tb.state(inputs, busy=0b10))
     assert out["timer_start_o"] == 0 and out["reply_o"] == 0
+    await tb.step(**tb.state(inputs, busy=0b10))
     # reset drops a packet in stage 2
     await tb.step(pkt_valid_i=1, pkt_n_i=2, pkt_d0_i=CMD_DIG_RST, pkt_d1_i=0)
     await tb.step(rst=1, pkt_valid_i=1, pkt_n_i=2, pkt_d0_i=CMD_DIG_RST, pkt_d1_i=0)
@@ -393,18 +401,33 @@ async def test_strobe_clock(dut) -> None:
     assert out["rearm_o"] == 0 and out["s2_valid_o"] == 0
 
 
+@SUITE.test("gp1")
+async def test_debug_echo(dut) -> None:
+    """cmdDEBUG is echoed whole for every N from 1 to 8: `23, d1 .. d(N-1)` as the reply."""
+    tb = ExecTB(dut)
+    await tb.reset()
+    data = [0x17, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6, 0x07]
+    tail = int.from_bytes(bytes(data[3:]), "big")
+    for n in range(1, MAX_N + 1):
+        out = await tb.step(pkt_valid_i=1, pkt_n_i=n, pkt_d0_i=CMD_DEBUG, pkt_d1_i=data[1],
+                            pkt_d2_i=data[2], pkt_tail_i=tail)
+        assert out["reply_o"] and out["reply_n_o"] == n, out
+        await tb.steps(2)
+
+
 @SUITE.test()
 async def test_random_vs_model(dut) -> None:
     """Random packets (every kind, code, N, pin and DEVCODE byte) over random pin state,
-    back to back or spaced, rare resets; the model checked on every clock."""
+    three clocks apart (the closest the parser hands them over) or more, rare resets; the
+    model checked on every clock."""
     tb = ExecTB(dut)
     rng = tb.rng
     await tb.reset()
-    codes = [CMD_HB, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD]
+    codes = [CMD_HB, CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD]
     strobes = 0
     for _ in range(2500):
         kind = rng.choice([KIND_CMD] * 8 + [KIND_PROBE, KIND_SERIAL])
-        d0 = rng.choice(codes * 4 + [rng.choice([c for c in range(256) if c != CMD_DEBUG])])
+        d0 = rng.choice(codes * 4 + [rng.randrange(256)])
         pin = rng.randrange(tb.n + 2) if rng.random() < 0.9 else rng.randrange(256)
         d1 = rng.choice([pin, pin | (rng.randrange(4) << 6) if pin < 64 else pin,
                          rng.randrange(6)])
@@ -413,9 +436,10 @@ async def test_random_vs_model(dut) -> None:
         n = rng.randrange(1, MAX_N + 1) if kind == KIND_CMD else (0 if kind == KIND_PROBE else 9)
         out = await tb.step(rst=int(rng.random() < 0.003), pkt_valid_i=1, pkt_kind_i=kind,
                             pkt_n_i=rng.choice([n, min(n, 3), min(n, 2)]), pkt_d0_i=d0,
-                            pkt_d1_i=d1, pkt_d2_i=rng.choice([0, 1, rng.randrange(256)]), **st)
+                            pkt_d1_i=d1, pkt_d2_i=rng.choice([0, 1, rng.randrange(256)]),
+                            pkt_tail_i=rng.getrandbits(40), **st)
         strobes += out["cfg_we_o"] + out["out_we_o"] + (out["timer_start_o"] != 0)
-        for _ in range(rng.choice([0, 0, 1, 2])):
+        for _ in range(rng.choice([2, 2, 3, 4])):  # as close as the parser hands them over
             await tb.step(**st)
     assert strobes > 100 and tb.replies > 800, (strobes, tb.replies)
 
