@@ -607,9 +607,12 @@ def bitstream(run: Run, seed: int, board: str = DEFAULT_BOARD) -> Path:
     res = _nextpnr(work, d, seed, out=True, tag="bit_pnr", netlist="bit_top.json")
     image = f"{board}.{f.bitstream}"
     pack_in = f.pnr_out[1]
-    cmd = {"ice40": [tool(f.pack_tool), pack_in, image],
-           "ecp5": [tool(f.pack_tool), "--compress", pack_in, image],
-           "gowin": [tool(f.pack_tool), "-d", f.device["family"], "-o", image, pack_in]}[f.name]
+    if f.name == "gowin":
+        cmd = [tool(f.pack_tool), "-d", f.device["family"], "-o", image, pack_in]
+    elif f.name == "ecp5":
+        cmd = [tool(f.pack_tool), "--compress", pack_in, image]
+    else:
+        cmd = [tool(f.pack_tool), pack_in, image]
     (work / image).unlink(missing_ok=True)
     secs = _run(cmd, work, work / "pack.log", f.pack_tool, work / "pack.log")
     if not (work / image).is_file():
