@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Board-level glue shared by the ULX3S and Tang Nano 9K tops (synth/*_top.v):
 // the power-up reset and the status LEDs. Plain RTL, no vendor primitive.

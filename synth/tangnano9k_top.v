@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Tang Nano 9K (GW1NR-LV9QN88PC6/I5) board top for brainstem_dio_uart.
 //   clk       27 MHz oscillator (pin 52)

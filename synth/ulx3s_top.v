@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // ULX3S (LFE5U-85F-6BG381C) board top for brainstem_dio_uart.
 //   clk_25mhz  25 MHz oscillator (G2)

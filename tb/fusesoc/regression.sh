@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: Apache-2.0
 # The `regression` target of brainstem_dio.core: the repository's own regression, `make test`
 # (Verilator lint, FuseSoC check, then the cocotb/pytest tests on Verilator and Icarus), run in
 # the core's checkout. FuseSoC sets FILES_ROOT (relative to its work folder) to the sources it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Simulation model of the Gowin bidirectional pad IOBUF, for the board-top tests
 // (synthesis uses the vendor cell; this file is never synthesized).

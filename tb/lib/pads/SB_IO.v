@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Simulation model of the iCE40 pad SB_IO as icebreaker_top uses it (PIN_TYPE
 // 1010_01 or 0000_01: unregistered input, output enabled by OUTPUT_ENABLE or
