@@ -61,7 +61,7 @@ class HeartbeatTB(TB):
         self.check_link(model, f"after the answer {kind}")
 
 
-@SUITE.test("heartbeat")
+@SUITE.test("heartbeat", deep=lambda sim, build: sim == "icarus")
 async def test_heartbeats_and_link_up(dut) -> None:
     """First heartbeat one period after reset, UP/DOWN alternating, each on its due time;
     link_up checked just before and after every due time: answered in time, missing, late

@@ -106,7 +106,7 @@ class TimerJob:
 
 
 @SUITE.test(*ACCURACY, args=accuracy_args,
-            deep=lambda sim, build: sim == "icarus" and build == "clk2")
+            deep=lambda sim, build: sim == "icarus" and build in ("clk2", "gp1"))
 async def test_timer_accuracy(dut) -> None:
     """Random edge intervals and widths on every timer pin at once, in batches; every
     result within one tick plus the fixed latency of the true interval (the bound: a result
@@ -175,7 +175,7 @@ async def test_timer_accuracy(dut) -> None:
         f"{worst_net:.3f} ticks less the fixed latency allowance")
 
 
-@SUITE.test("gp1", "gp2", "high_ids")
+@SUITE.test("gp1", "gp2", "high_ids", deep=lambda sim, build: sim == "icarus" and build == "gp1")
 async def test_timers(dut) -> None:
     """Edge and width mode for each timer pin and both targets, ±1 tick of the model; HOST,
     RFLX, both, neither; a pin already at target must leave it first; a sub-tick pulse gives

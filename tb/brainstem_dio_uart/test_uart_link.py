@@ -248,7 +248,7 @@ def overflow_msg() -> bytes:
 
 # ================================================================================ tests
 
-@SUITE.test()
+@SUITE.test(deep=lambda sim, build: sim == "icarus" and build == "b9600")
 async def test_worked_examples(dut) -> None:
     """docs/PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""
