@@ -109,7 +109,7 @@ async def test_heartbeats_and_link_up(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("clk2")
+@SUITE.test("clk2", deep=lambda sim, build: sim == "icarus")
 async def test_no_heartbeat_when_off(dut) -> None:
     """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the host sends."""
     p = P

@@ -162,7 +162,7 @@ async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int) -> None
     tb.set_pin(pin, 1)
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2")
+@SUITE.test("gp1", "slow_fixed", "gp2", deep=lambda sim, build: sim == "icarus" and build == "gp1")
 async def test_dig_rst_latch(dut) -> None:
     """ENA/TRG one-shot on raw_trans: fires once per arm in the TRG direction, a present
     level never fires, DIG_RST and DIG_CFG set re-arm, ENA = 0 and outputs never fire,
