@@ -37,20 +37,7 @@
 #include "script.h"
 #include "transcript.h"
 #include "verilated.h"
-#if VM_TRACE_FST
-#include "verilated_fst_c.h"
-using Trace = VerilatedFstC;
-#elif VM_TRACE
-#include "verilated_vcd_c.h"
-using Trace = VerilatedVcdC;
-#else
-// Built without tracing (the benchmark build): a stand-in that is never opened.
-struct Trace {
-    void open(const char*) {}
-    void dump(uint64_t) {}
-    void close() {}
-};
-#endif
+#include "trace.h"
 
 namespace {
 

@@ -63,19 +63,7 @@
 #include "script.h"
 #include "transcript.h"
 #include "verilated.h"
-#if VM_TRACE_FST
-#include "verilated_fst_c.h"
-using Trace = VerilatedFstC;
-#elif VM_TRACE
-#include "verilated_vcd_c.h"
-using Trace = VerilatedVcdC;
-#else
-struct Trace {
-    void open(const char*) {}
-    void dump(uint64_t) {}
-    void close() {}
-};
-#endif
+#include "trace.h"
 
 #if !defined(BSD_BAUD) || !defined(BSD_HB_RATE)
 #error "build with make (virtual-build): BSD_BAUD and BSD_HB_RATE = the model's -G values"
