@@ -15,6 +15,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "tb" / "lib"))
 
 import figures  # noqa: E402
 import runner  # noqa: E402
+import suite  # noqa: E402
 
 _START = time.time()
 
@@ -56,15 +57,44 @@ def pytest_sessionfinish(session) -> None:
 
 def pytest_collection_modifyitems(config, items) -> None:
     """Longest first, so that pytest-xdist does not end the run waiting on one long test:
-    ordered by the durations this checkout's last run recorded; with none (a fresh clone),
-    the top-level and serial-link files, which hold the long simulations, go first. Only
-    the order changes, never the selection."""
+    ordered by the durations this checkout's last run recorded, a group of cases that share
+    one simulator run (tb/lib/suite.py) weighed as a whole and kept together; with no record
+    (a fresh clone), the top-level and serial-link files, which hold the long simulations,
+    go first. Only the order changes, never the selection."""
     known = runner.item_durations()
+    group_of = {id(item): _group(item) or item.nodeid for item in items}
+    weight: dict[str, float] = {}
+    for item in items:
+        g = group_of[id(item)]
+        weight[g] = weight.get(g, 0.0) + known.get(runner.plain_nodeid(item.nodeid), 0.0)
+    first = {}
+    for i, item in enumerate(items):
+        first.setdefault(group_of[id(item)], i)
 
-    def weight(item) -> tuple[float, int]:
+    def key(item) -> tuple[float, int, int]:
+        g = group_of[id(item)]
         if known:
-            return (-known.get(item.nodeid, 0.0), 0)
+            return (-weight[g], first[g], 0)
         path = item.nodeid.split("::", 1)[0]
-        return (0.0, 0 if path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift", "tb/virtual", "tb/host_virtual")) else 1)
+        early = path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift",
+                                 "tb/virtual", "tb/host_virtual"))
+        return (0.0 if early else 1.0, first[g], 0)
 
-    items.sort(key=weight)  # stable: ties keep their collection order
+    items.sort(key=key)  # stable: a group's cases keep their collection order
+
+
+def pytest_collection_finish(session) -> None:
+    """Tell tb/lib/suite.py which cases of each group this session runs, so that the first
+    case of a group runs the group's tests in one simulator run."""
+    suite.select([c for c in (_case(item) for item in session.items) if c is not None])
+
+
+def _case(item):
+    callspec = getattr(item, "callspec", None)
+    case = callspec.params.get("case") if callspec is not None else None
+    return case if isinstance(case, suite.Case) else None
+
+
+def _group(item) -> str | None:
+    case = _case(item)
+    return case.group if case is not None else None

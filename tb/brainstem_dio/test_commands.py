@@ -26,7 +26,7 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import _hex
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     FLAGS,
@@ -41,7 +41,7 @@ from top_helpers import (
     setup,
 )
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator", ("test_worked_examples", "gp1")))
 
 
 @SUITE.test("gp1", "gp2")

@@ -13,11 +13,11 @@ import pytest
 
 from bsd_model import CMD_HB, HB_ANSWER, TICK_S, Model, Output, packet
 from bsd_tb import TB, TBError
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import P, need
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 
 class HeartbeatTB(TB):
@@ -61,7 +61,7 @@ class HeartbeatTB(TB):
         self.check_link(model, f"after the answer {kind}")
 
 
-@SUITE.test("heartbeat", deep=lambda sim, build: sim == "icarus")
+@SUITE.test("heartbeat")
 async def test_heartbeats_and_link_up(dut) -> None:
     """First heartbeat one period after reset, UP/DOWN alternating, each on its due time;
     link_up checked just before and after every due time: answered in time, missing, late
@@ -109,7 +109,7 @@ async def test_heartbeats_and_link_up(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("clk2", deep=lambda sim, build: sim == "icarus")
+@SUITE.test("clk2")
 async def test_no_heartbeat_when_off(dut) -> None:
     """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the host sends."""
     p = P

@@ -23,11 +23,11 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import TB, TBError
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import OUT_OF_RANGE, A, P, configure, need, set_pins_checked, setup
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # A command's state change lands this many clocks after its last byte's handshake
 # (docs/DESIGN.md, "Latencies").
@@ -39,7 +39,7 @@ def hold_s(p: Params) -> float:
     return 2.5 / p.poll_hz if p.poll_hz else 20 / p.clk_hz
 
 
-@SUITE.test("clk8", "clk8_poll0", deep=lambda sim, build: sim == "icarus" and build == "clk8")
+@SUITE.test("clk8", "clk8_poll0")
 async def test_random_sequence(dut) -> None:
     """Random pad levels, DIG_RST and DIG_CFG sets (ENA, TRG, IODIR) on every free pin."""
     p = P
@@ -162,7 +162,7 @@ async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int) -> None
     tb.set_pin(pin, 1)
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2", deep=lambda sim, build: sim == "icarus" and build == "gp1")
+@SUITE.test("gp1", "slow_fixed", "gp2")
 async def test_dig_rst_latch(dut) -> None:
     """ENA/TRG one-shot on raw_trans: fires once per arm in the TRG direction, a present
     level never fires, DIG_RST and DIG_CFG set re-arm, ENA = 0 and outputs never fire,

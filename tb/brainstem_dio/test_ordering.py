@@ -24,7 +24,7 @@ from bsd_model import (
     timer_interval,
 )
 from bsd_tb import TBError, _hex
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     A,
@@ -40,7 +40,7 @@ from top_helpers import (
     timer_value,
 )
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 
 @SUITE.test("gp1")

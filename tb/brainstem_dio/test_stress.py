@@ -27,11 +27,11 @@ from bsd_model import (
 )
 from bsd_tb import TB, TBError, _hex
 from runner import test_args
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import FLAGS, OUT_OF_RANGE, A, P
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # Packets per run: the full 10 000 on the GP 1.0 build on both simulators, a smaller share
 # on the others. $BSD_STRESS_PACKETS overrides it (e.g. 100000 for a long soak).

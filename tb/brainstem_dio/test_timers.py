@@ -30,7 +30,7 @@ from bsd_model import (
 )
 from bsd_tb import TB, TBError
 from runner import test_args
-from suite import Suite
+from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     FLAGS,
@@ -48,7 +48,7 @@ from top_helpers import (
     timer_value,
 )
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # Reference lag difference in clocks (see test_timer_accuracy).
 LAG_CLOCKS = {False: 2, True: 1}
@@ -105,8 +105,7 @@ class TimerJob:
         return [(t0 + self.interval, tgt)]
 
 
-@SUITE.test(*ACCURACY, args=accuracy_args,
-            deep=lambda sim, build: sim == "icarus" and build in ("clk2", "gp1"))
+@SUITE.test(*ACCURACY, args=accuracy_args)
 async def test_timer_accuracy(dut) -> None:
     """Random edge intervals and widths on every timer pin at once, in batches; every
     result within one tick plus the fixed latency of the true interval (the bound: a result
@@ -175,8 +174,7 @@ async def test_timer_accuracy(dut) -> None:
         f"{worst_net:.3f} ticks less the fixed latency allowance")
 
 
-@SUITE.test("gp1", "gp2", "high_ids",
-            deep=lambda sim, build: sim == "icarus" and build in ("gp1", "high_ids"))
+@SUITE.test("gp1", "gp2", "high_ids")
 async def test_timers(dut) -> None:
     """Edge and width mode for each timer pin and both targets, ±1 tick of the model; HOST,
     RFLX, both, neither; a pin already at target must leave it first; a sub-tick pulse gives
@@ -272,8 +270,7 @@ async def test_timers(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("slow_fixed", "gp1", "clk32", "clk2",
-            deep=lambda sim, build: sim == "icarus" and build in ("gp1", "clk32", "clk2"))
+@SUITE.test("slow_fixed", "gp1", "clk32", "clk2")
 async def test_timer_timeout(dut) -> None:
     """No completion within 65 535 ticks of the start: result 0 (HOST and RFLX), 65 535
     ticks after the start (± a tick, plus a few clocks), at several clock rates; the timeout counts from the start in width mode too; a completion just

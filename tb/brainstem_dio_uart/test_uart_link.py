@@ -53,14 +53,14 @@ from bsd_model import (
 from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_CMD_Q_OVERFLOW
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
 
 BUILDS = {
     "b9600": {**Params(clk_hz=2_000_000, hb_rate=10).to_hdl(), "BAUD": 9600, "FIFO_DEPTH": 8},
     "b115200": {**Params(clk_hz=2_304_000, hb_rate=1).to_hdl(), "BAUD": 115_200, "FIFO_DEPTH": 16},
 }
-SUITE = Suite(__file__, "brainstem_dio_uart", BUILDS)
+SUITE = Suite(__file__, "brainstem_dio_uart", BUILDS, quick=on("verilator"))
 
 
 def not_icarus_9600(sim: str, build: str) -> bool:
@@ -248,7 +248,7 @@ def overflow_msg() -> bytes:
 
 # ================================================================================ tests
 
-@SUITE.test(deep=lambda sim, build: sim == "icarus" and build == "b9600")
+@SUITE.test()
 async def test_worked_examples(dut) -> None:
     """docs/PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""

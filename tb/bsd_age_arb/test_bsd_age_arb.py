@@ -18,9 +18,9 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_age_arb", {"k1": {"K": 1}, "k3": {"K": 3}, "k7": {"K": 7}})
+SUITE = Suite(__file__, "bsd_age_arb", {"k1": {"K": 1}, "k3": {"K": 3}, "k7": {"K": 7}}, quick=on("icarus"))
 
 
 class AgeModel:

@@ -15,9 +15,9 @@ import pytest
 
 import stream_check
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_axis_skid", {"w8": {"WIDTH": 8}, "w9": {"WIDTH": 9}})
+SUITE = Suite(__file__, "bsd_axis_skid", {"w8": {"WIDTH": 8}, "w9": {"WIDTH": 9}}, quick=on("icarus"))
 
 
 def make_tb(dut) -> stream_check.StreamTB:

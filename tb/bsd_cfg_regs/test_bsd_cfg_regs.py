@@ -15,7 +15,7 @@ import pytest
 from bsd_protocol import DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 # pins7-fixed: pins 1, 3 and 6 fixed; pin 3 an input with ENA (0x13 | junk in bits 7:5,
 # which must not show), pin 1 an output, pin 6 an input with TMODE/TSTATE/TRG.
@@ -24,7 +24,7 @@ SUITE = Suite(__file__, "bsd_cfg_regs", {
     "pins5": {"NUM_PINS": 5},
     "pins7-fixed": {"NUM_PINS": 7, "FIXED_MASK": "7'b1001010", "FIXED_CFG": f"56'h{FIXED_CFG7:x}"},
     "pins1-fixed": {"NUM_PINS": 1, "FIXED_MASK": "1'b1", "FIXED_CFG": "8'h03"},
-})
+}, quick=on("icarus"))
 
 
 def vint(v: object) -> int:

@@ -25,9 +25,9 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 from clocked_tb import ClockedTB
 from seeding import make_rng
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_event_timer")
+SUITE = Suite(__file__, "bsd_event_timer", quick=on("icarus"))
 
 PERIOD_NS = 10
 TIMEOUT = 65_535

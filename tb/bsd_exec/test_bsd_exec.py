@@ -33,7 +33,7 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
                           MSG_N, MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_exec", {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},
@@ -41,7 +41,7 @@ SUITE = Suite(__file__, "bsd_exec", {
                     "PIN_ID_BASE": 40},
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
-})
+}, quick=on("icarus"))
 
 ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "hb_answer_o",
           "reply_o", "dio_rflx_o")

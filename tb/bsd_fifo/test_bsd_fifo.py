@@ -15,9 +15,9 @@ from cocotb.triggers import ReadOnly
 
 import stream_check
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_fifo", {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16}})
+SUITE = Suite(__file__, "bsd_fifo", {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16}}, quick=on("icarus"))
 
 
 def make_tb(dut) -> stream_check.StreamTB:

@@ -22,10 +22,10 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 from bsd_protocol import HB_DOWN, HB_UNIT_TICKS, HB_UP
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_heartbeat", {"hb0": {"HB_RATE": 0}, "hb1": {"HB_RATE": 1},
-                                           "hb3": {"HB_RATE": 3}})
+                                           "hb3": {"HB_RATE": 3}}, quick=on("icarus"))
 
 
 class HbModel:

@@ -23,12 +23,12 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 from bsd_protocol import CMD_MSG, MSG_CMD_Q_OVERFLOW, MSG_CONFIG_ERR, MSG_N
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_msg_merge", {
     "a2-qovf": {"MODULE_ADDR": 2, "CODE": f"8'd{MSG_CMD_Q_OVERFLOW}"},
     "a254-cfgerr": {"MODULE_ADDR": 254, "CODE": f"8'd{MSG_CONFIG_ERR}"},
-})
+}, quick=on("icarus"))
 
 
 class MergeModel:

@@ -40,7 +40,7 @@ from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_U
 from clocked_tb import ClockedTB
 from runner import hdl_params
 from seeding import make_rng
-from suite import Suite
+from suite import Suite, on
 
 PERIOD_NS = 10
 
@@ -50,7 +50,7 @@ BUILDS = {
 }
 TIMED = [b for b, p in BUILDS.items() if p["RX_TIMEOUT_US"]]
 UNTIMED = [b for b, p in BUILDS.items() if not p["RX_TIMEOUT_US"]]
-SUITE = Suite(__file__, "bsd_parser", BUILDS)
+SUITE = Suite(__file__, "bsd_parser", BUILDS, quick=on("icarus"))
 
 MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", DEFAULT_MODULE_ADDR))
 RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", DEFAULT_RX_TIMEOUT_US))

@@ -23,10 +23,10 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 from bsd_protocol import CMD_MSG, MSG_N, MSG_STATE_POWER_RESET
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_reply_slot", {"pins5": {"NUM_PINS": 5, "TIMER_ID_BASE": 10},
-                                           "pins8-id56": {"NUM_PINS": 8, "TIMER_ID_BASE": 56}})
+                                           "pins8-id56": {"NUM_PINS": 8, "TIMER_ID_BASE": 56}}, quick=on("icarus"))
 POWER_UP = (MSG_N, [CMD_MSG, MSG_STATE_POWER_RESET])
 
 

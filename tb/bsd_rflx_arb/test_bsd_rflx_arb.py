@@ -21,12 +21,12 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_rflx_arb", {
     "pins5": {"NUM_PINS": 5, "TIMER_ID_BASE": 10},
     "pins8-id56": {"NUM_PINS": 8, "TIMER_ID_BASE": 56},
-})
+}, quick=on("icarus"))
 
 
 class RflxModel:

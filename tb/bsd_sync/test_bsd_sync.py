@@ -15,9 +15,9 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_sync", {"w1": {"WIDTH": 1}, "w7": {"WIDTH": 7}})
+SUITE = Suite(__file__, "bsd_sync", {"w1": {"WIDTH": 1}, "w7": {"WIDTH": 7}}, quick=on("icarus"))
 
 
 class SyncTB(ClockedTB):

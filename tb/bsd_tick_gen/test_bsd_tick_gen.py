@@ -30,7 +30,7 @@ from cocotb.triggers import (
 
 from runner import hdl_params, test_args
 from seeding import make_rng
-from suite import Suite
+from suite import Suite, on
 
 PERIOD_NS = 10
 
@@ -52,7 +52,7 @@ STROBES = {f"clk{c}-rate{r}": n for c, r, n in CASES}
 RATED = [b for b, p in BUILDS.items() if p["RATE_HZ"]]
 UNRATED = [b for b, p in BUILDS.items() if not p["RATE_HZ"]]
 
-SUITE = Suite(__file__, "bsd_tick_gen", BUILDS)
+SUITE = Suite(__file__, "bsd_tick_gen", BUILDS, quick=on("icarus"))
 
 
 def now_ns() -> int:

@@ -14,9 +14,9 @@ import pytest
 
 from clocked_tb import ClockedTB
 from seeding import make_rng
-from suite import Suite
+from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_trans_latch")
+SUITE = Suite(__file__, "bsd_trans_latch", quick=on("icarus"))
 
 PERIOD_NS = 10
 

@@ -24,10 +24,10 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from clocked_tb import ClockedTB
 from runner import hdl_params
-from suite import Suite
+from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_tx", {"k2": {"MODULE_ADDR": 2, "K": 2},
-                                   "k7-a254": {"MODULE_ADDR": 254, "K": 7}})
+                                   "k7-a254": {"MODULE_ADDR": 254, "K": 7}}, quick=on("icarus"))
 
 
 class TxModel:

@@ -12,11 +12,11 @@ import pytest
 from cocotb.triggers import ReadOnly, RisingEdge, Timer
 from cocotbext.uart import UartSource
 
-from suite import Suite
+from suite import Suite, on
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
 from uart_unit import BAUD, BIT_PS, BUILDS, DIV, FRAME_PS, PERIOD_PS, idle, rng_for, start_clock_and_reset
 
-SUITE = Suite(__file__, "bsd_uart_rx", BUILDS)
+SUITE = Suite(__file__, "bsd_uart_rx", BUILDS, quick=on("icarus"))
 
 
 class RxCollector:

@@ -12,11 +12,11 @@ import pytest
 from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge, Timer
 from cocotbext.uart import UartSink
 
-from suite import Suite
+from suite import Suite, on
 from uart_line import LineMonitor, now_ps, quiet_uart_logs
 from uart_unit import BAUD, BIT_PS, BUILDS, DIV, FRAME_PS, PERIOD_PS, rng_for, start_clock_and_reset
 
-SUITE = Suite(__file__, "bsd_uart_tx", BUILDS)
+SUITE = Suite(__file__, "bsd_uart_tx", BUILDS, quick=on("icarus"))
 
 
 class TxDriver:

@@ -96,6 +96,10 @@ def test_args() -> dict[str, object]:
     return json.loads(os.environ.get(TEST_ARGS_ENV, "{}"))
 
 
+# Test modules import test_args by name: not a pytest test.
+test_args.__test__ = False  # type: ignore[attr-defined]
+
+
 def build_name(parameters: Mapping[str, object]) -> str:
     """A readable folder name for a parameter set: `CLK_HZ2000000-RATE_HZ625000`."""
     if not parameters:
@@ -267,8 +271,32 @@ def run(
     `module_dir` is the folder holding the module (default: tb/lib). Returns the results;
     raises RunError unless the named tests (or, with none named, at least one) ran and
     passed."""
-    parameters = dict(parameters or {})
     wanted = [testcase] if isinstance(testcase, str) else list(testcase or [])
+    results, exit_code, error = run_tests(sim, toplevel, module, parameters, wanted, name, args,
+                                          module_dir, extra_env, sources)
+    if error:
+        raise RunError(error)
+    check_results(results, module, wanted)
+    if exit_code:
+        raise RunError(f"{module}: the simulator exited with {exit_code}")
+    return results
+
+
+def run_tests(
+    sim: str,
+    toplevel: str,
+    module: str,
+    parameters: Mapping[str, object] | None,
+    wanted: Sequence[str],
+    name: str | None = None,
+    args: Mapping[str, object] | None = None,
+    module_dir: Path | None = None,
+    extra_env: Mapping[str, str] | None = None,
+    sources: Sequence[Path] | None = None,
+) -> tuple[dict[str, str], object, str | None]:
+    """One simulator run of the `wanted` tests (all with none): (results, exit code, why the
+    run left no results or None). Checks nothing: `run` and suite.Suite judge the results."""
+    parameters = dict(parameters or {})
     runner, build_dir = build(sim, toplevel, parameters, name, sources)
     if module_dir is not None and str(module_dir) not in sys.path:
         sys.path.insert(0, str(module_dir))
@@ -280,10 +308,13 @@ def run(
         "COCOTB_RANDOM_SEED": str(seed),
         **(extra_env or {}),
     }
-    # One folder per test module and test, so runs sharing a build never collide.
+    # One folder per test module and test set, so runs sharing a build never collide.
     tag = "-".join(wanted) if wanted else "all"
+    if len(tag) > 80:
+        tag = f"{len(wanted)}tests-{hashlib.sha1(tag.encode()).hexdigest()[:8]}"
     test_dir = build_dir / module / tag
     results_xml = test_dir / "results.xml"
+    results_xml.unlink(missing_ok=True)  # a crashed run must not read the last run's results
     t0 = time.time()
     exit_code: object = 0
     try:
@@ -302,15 +333,11 @@ def run(
     except SystemExit as stop:  # cocotb_tools' way of reporting a failed run to pytest
         exit_code = stop.code
     record_timing("test", sim=sim, toplevel=toplevel, build=build_dir.name, module=module,
-                   tests=tag, seconds=time.time() - t0)
+                   tests=tag, count=len(wanted), seconds=time.time() - t0)
     try:
-        results = results_of(results_xml)
+        return results_of(results_xml), exit_code, None
     except RunError as e:
-        raise RunError(f"{e} (exit code {exit_code}; the simulator's log above says why)") from None
-    check_results(results, module, wanted)
-    if exit_code:
-        raise RunError(f"{module}: the simulator exited with {exit_code}")
-    return results
+        return {}, exit_code, f"{e} (exit code {exit_code}; the simulator's log says why)"
 
 
 def builds_since(t: float) -> dict[str, tuple[int, float]]:
@@ -329,6 +356,12 @@ def builds_since(t: float) -> dict[str, tuple[int, float]]:
     return out
 
 
+def plain_nodeid(nodeid: str) -> str:
+    """A node id without the `@group` that pytest-xdist's --dist loadgroup appends."""
+    at = nodeid.rfind("@")
+    return nodeid[:at] if at > nodeid.rfind("]") else nodeid
+
+
 def item_durations() -> dict[str, float]:
     """{pytest node id: seconds of its call} from the newest record of each test."""
     newest: dict[str, tuple[float, float]] = {}
@@ -336,6 +369,7 @@ def item_durations() -> dict[str, float]:
         for line in path.read_text().splitlines():
             rec = json.loads(line)
             if rec["kind"] == "item" and rec["when"] == "call":
-                if rec["t_end"] > newest.get(rec["nodeid"], (0.0, 0.0))[0]:
-                    newest[rec["nodeid"]] = (rec["t_end"], rec["seconds"])
+                node = plain_nodeid(rec["nodeid"])
+                if rec["t_end"] > newest.get(node, (0.0, 0.0))[0]:
+                    newest[node] = (rec["t_end"], rec["seconds"])
     return {node: secs for node, (_, secs) in newest.items()}

@@ -11,12 +11,12 @@ from __future__ import annotations
 import pytest
 
 from board_top import Board, builds, session, one_build_per_sim
-from suite import Suite
+from suite import Suite, on
 
 BOARD = Board(top="ulx3s_top", clk_hz=25_000_000, clk="clk_25mhz", rx="ftdi_txd", tx="ftdi_rxd", btn="btn_pwr_n",
               pads="gp", pad_model="BB", led_link=("led", 0), led_act=("led", 1),
               led_active_low=False, extra_sources=("board_status.v",))
-SUITE = Suite(__file__, BOARD.top, builds(BOARD), sources=BOARD.sources())
+SUITE = Suite(__file__, BOARD.top, builds(BOARD), sources=BOARD.sources(), quick=on("icarus"))
 
 
 @SUITE.test(only=one_build_per_sim)
