@@ -100,9 +100,9 @@ $(BENCH_DIR)/session: $(SIM_DEPS) | $(STAMP)
 
 bench-build: $(BENCH_DIR)/session
 
-# Speed of each simulator, Callgrind breakdown, `make test` wall time, and the virtual
+# Speed of each simulator, Callgrind breakdown, and the virtual
 # module's ratio to real time (sim/virtual_bench.py: 2/12/48 MHz x 9600/115200 baud) -> the
-# generated regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-regression --no-callgrind";
+# generated regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-callgrind";
 # VIRTUAL_BENCH_ARGS: e.g. "--seconds 1".
 BENCH_ARGS ?=
 VIRTUAL_BENCH_ARGS ?=

@@ -3,14 +3,14 @@
 """Simulation benchmark: simulated clock cycles per wall-clock second of the same busy
 scenario (continuous packet traffic, timers running, pins toggling) on the standalone
 Verilator harness, cocotb + Verilator and cocotb + Icarus, side by side; where the standalone
-harness spends its instructions (Callgrind, if valgrind is installed); and the wall time of the
-whole `make test`. Prints what it measures and fills the generated regions of
+harness spends its instructions (Callgrind, if valgrind is installed). (`make test`'s own time,
+on a fresh clone, is sim/test_time.py's: `make test-time`.) Prints what it measures and fills the generated regions of
 docs/benchmarks.md with those figures only, under the date of this run (a region whose
 measurement was skipped says so); the hand-written text around them is left alone, and so is
 the `test-time` region.
 
-    make bench                                    # everything (the regression takes minutes)
-    .venv/bin/python sim/bench.py --no-regression --no-callgrind
+    make bench                                    # everything
+    .venv/bin/python sim/bench.py --no-callgrind
 """
 
 from __future__ import annotations
@@ -39,11 +39,10 @@ from docregions import RegionError, fill, fill_file  # noqa: E402
 
 BENCH_BIN = ROOT / "sim" / "build" / "bench" / "session"
 DOC = ROOT / "docs" / "benchmarks.md"
-REGIONS = ("bench-run", "bench-speed", "bench-callgrind", "bench-regression")
+REGIONS = ("bench-run", "bench-speed", "bench-callgrind")
 
 # The project's targets (the issue tracker's): the figures are compared with them.
 TARGET_CPS = 10e6                 # standalone harness, simulated cycles per second
-TARGET_REGRESSION_S = 5 * 60      # the whole `make test` on 2 cores
 
 
 class BenchError(RuntimeError):
@@ -80,19 +79,6 @@ def cocotb_run(sim: str, cycles: int) -> dict:
         if not out.exists():
             raise BenchError(f"the cocotb benchmark on {sim} wrote no result (sim/bench_cocotb.py)")
         return json.loads(out.read_text())
-
-
-def _builds() -> int:
-    build = ROOT / "sim_build"
-    return sum(1 for p in build.iterdir() if p.is_dir()) if build.exists() else 0
-
-
-def regression(jobs: int) -> dict:
-    before = _builds()
-    t0 = time.perf_counter()
-    _run(["make", "-s", "test", f"JOBS={jobs}"], "make test", stdout=subprocess.DEVNULL)
-    return {"seconds": time.perf_counter() - t0, "jobs": jobs, "builds_before": before,
-            "builds_after": _builds()}
 
 
 _CG_LINE = re.compile(r"^\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(\S*?):(.*?)(?: \[([^\]]*)\])?$")
@@ -252,18 +238,6 @@ def regions(r: dict) -> dict[str, str]:
             lines.append(f"| {g} | {ir:,.0f} | {100 * ir / cg['total']:.0f} % |")
         out["bench-callgrind"] = "\n".join(lines)
 
-    reg = r["regression"]
-    if isinstance(reg, str):
-        out["bench-regression"] = skipped(reg)
-    else:
-        made = reg["builds_after"] - reg["builds_before"]
-        cached = (f"all {reg['builds_after']} simulator builds were in `sim_build/` already" if made == 0 else
-                  f"{made} of its {reg['builds_after']} simulator builds were made during the run")
-        out["bench-regression"] = "\n".join([
-            head, "",
-            f"Wall time of the whole `make test` (both simulators, {reg['jobs']} workers; {cached}): "
-            f"{reg['seconds']:.0f} s = {reg['seconds'] / 60:.1f} min, against the target of "
-            f"{TARGET_REGRESSION_S / 60:g} min on 2 cores: **{'met' if reg['seconds'] <= TARGET_REGRESSION_S else 'missed'}**."])
     return out
 
 
@@ -276,12 +250,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--callgrind-cycles", type=int, default=200_000,
                     help="clocks of the shorter Callgrind run (the longer one runs twice as many)")
     ap.add_argument("--no-callgrind", action="store_true", help="skip the Callgrind breakdown")
-    ap.add_argument("--no-regression", action="store_true", help="skip timing `make test`")
-    ap.add_argument("--jobs", type=int, default=2, help="pytest workers of the timed `make test`")
     ap.add_argument("--write", type=Path, default=DOC, help="document whose regions are filled")
     ap.add_argument("--no-write", action="store_true", help="print the figures only")
     args = ap.parse_args(argv)
-    for name in ("cycles", "cocotb_cycles", "callgrind_cycles", "jobs"):
+    for name in ("cycles", "cocotb_cycles", "callgrind_cycles"):
         if getattr(args, name) < 1:
             ap.error(f"--{name.replace('_', '-')} must be at least 1")
 
@@ -308,11 +280,6 @@ def main(argv: list[str] | None = None) -> int:
         else:
             r["callgrind"] = callgrind(args.callgrind_cycles)
             print(f"callgrind: {r['callgrind']['total']:,.0f} instructions a simulated clock", flush=True)
-        if args.no_regression:
-            r["regression"] = "`--no-regression`"
-        else:
-            r["regression"] = regression(args.jobs)
-            print(f"make test: {r['regression']['seconds']:.0f} s wall", flush=True)
         r["load_end"] = _load()
         if not args.no_write:
             changed = fill_file(args.write, regions(r))
