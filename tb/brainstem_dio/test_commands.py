@@ -153,6 +153,8 @@ async def test_messages(dut) -> None:
     for code in invalid:
         for n in (1, 2, 3, MAX_DATA):
             await tb.command(m, packet(A, code, *[rng.choice([0, 1, A, 26]) for _ in range(n - 1)]))
+    for n in range(4, MAX_DATA):  # every other N, once
+        await tb.command(m, packet(A, rng.choice(invalid), *[rng.choice([0, 1, A, 26]) for _ in range(n - 1)]))
     for cmd in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
         await tb.command(m, packet(A, cmd))
     # cmdIndexErr, each reason, with and without extra bytes (no cmdTooLong after an error).
@@ -214,6 +216,8 @@ async def test_messages(dut) -> None:
     # cmdHB from the host: silent for any N, any type.
     for data in ([CMD_HB], [CMD_HB, 2], [CMD_HB, 3], [CMD_HB, 0], [CMD_HB, 2, 1, 2, 3, 4, 5, 6]):
         await tb.command(m, packet(A, *data))
+    for n in range(3, MAX_DATA):
+        await tb.command(m, packet(A, CMD_HB, *range(2, n + 1)))
     await ReadOnly()
     assert int(dut.link_up.value) == 0, "link_up must be 0 while HB_RATE = 0"
     await RisingEdge(dut.clk)
