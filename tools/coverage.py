@@ -307,13 +307,24 @@ def _pct(m: Metric) -> str:
     return f"{m.percent:.1f} % ({m.covered}/{m.total})" if m.total else "–"
 
 
-def _compact(items: Sequence[str]) -> str:
-    """Toggle misses as bit names, a direction given only when the other one was seen."""
+def _compact(items: Sequence[str], most: int = 4) -> str:
+    """Toggle misses by signal: its bits (a direction only when the other one was seen), or
+    how many bits, when more than `most`."""
     dirs: dict[str, set[str]] = {}
     for item in items:
         bit, _, d = item.strip("`").rpartition(":")
         dirs.setdefault(bit, set()).add(d)
-    return ", ".join(f"`{b}`" if len(d) == 2 else f"`{b}` ({'/'.join(sorted(d))})" for b, d in dirs.items())
+    by_signal: dict[str, list[str]] = {}
+    for bit, d in dirs.items():
+        base = re.sub(r"\[\d+\]$", "", bit)
+        by_signal.setdefault(base, []).append(bit if len(d) == 2 else f"{bit} ({'/'.join(sorted(d))})")
+    out = []
+    for base, bits in by_signal.items():
+        if len(bits) > most:
+            out.append(f"`{base}` ({len(bits)} bits)")
+        else:
+            out.extend(f"`{b}`" for b in bits)
+    return ", ".join(out)
 
 
 STATUS_TEXT = {"met": "met", "named": "below, every miss named", "below": "**BELOW TARGET**"}
@@ -376,8 +387,10 @@ pre{font-size:13px;line-height:1.3}.hit{background:#dfd}.miss{background:#fcc}.w
 
 def write_html(reports: Mapping[str, ModuleReport], targets: Mapping[str, float], out: Path,
                summary_md: str) -> Path:
-    """index.html and one annotated source page per module; returns the index."""
-    out.mkdir(parents=True, exist_ok=True)
+    """index.html and one annotated source page per module (the folder emptied first, so no
+    page of a module that is gone stays); returns the index."""
+    shutil.rmtree(out, ignore_errors=True)
+    out.mkdir(parents=True)
     rows = []
     for r in reports.values():
         m = r.metrics

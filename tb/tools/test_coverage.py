@@ -181,3 +181,9 @@ def test_toggle_patterns_take_brackets_literally() -> None:
     rx = coverage.glob_regex("cnt_q[1*]")
     assert rx.fullmatch("cnt_q[15]") and rx.fullmatch("cnt_q[1]")
     assert not rx.fullmatch("cnt_q[2]") and not rx.fullmatch("cnt_q1")
+
+
+def test_toggle_misses_are_listed_by_signal() -> None:
+    items = [f"`d[{i}]:0->1`" for i in range(6)] + [f"`d[{i}]:1->0`" for i in range(6)]
+    items += ["`q:1->0`", "`r[2]:0->1`", "`r[2]:1->0`"]
+    assert coverage._compact(items) == "`d` (6 bits), `q (1->0)`, `r[2]`"
