@@ -222,6 +222,16 @@ test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
 test-time: $(STAMP)
 	$(VPY) sim/test_time.py --write --jobs $(JOBS)
 
+# make coverage: Verilator line, toggle and branch coverage of rtl/ over the regression's
+# Verilator cases (deep ones too), coverage builds in their own folders (`...-cov`), one data
+# file per run, merged -> sim_build/coverage/ (merged.dat, html/index.html) and the `code`
+# region of docs/coverage.md (tools/coverage.py; exceptions in tools/coverage_waivers.toml).
+# Fails when a module is below target without a named exception. COVERAGE_ARGS: e.g. --no-run.
+COVERAGE_ARGS ?=
+.PHONY: coverage
+coverage: $(STAMP)
+	@$(WITH_VERILATOR) $(VPY) tools/coverage.py --write --jobs $(JOBS) $(COVERAGE_ARGS)
+
 # The host library's own tests alone (no simulator).
 test-host: $(STAMP)
 	$(VPY) -m pytest -q -rfE host/tests

@@ -20,6 +20,7 @@ from bsd_model import (
     DIGCFG_ENA,
     DIGCFG_IODIR,
     DIGCFG_TRG,
+    DIGCFG_TSTATE,
     MAX_DATA,
     RESYNC_ADDR,
     TICK_S,
@@ -34,11 +35,13 @@ from top_helpers import (
     A,
     P,
     configure,
+    finish_timers,
     input_pins,
     measure,
     need,
     set_pins_checked,
     setup,
+    start_timer,
 )
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator", ("test_worked_examples", "gp1")))
@@ -150,6 +153,8 @@ async def test_messages(dut) -> None:
     for code in invalid:
         for n in (1, 2, 3, MAX_DATA):
             await tb.command(m, packet(A, code, *[rng.choice([0, 1, A, 26]) for _ in range(n - 1)]))
+    for n in range(4, MAX_DATA):  # every other N, once
+        await tb.command(m, packet(A, rng.choice(invalid), *[rng.choice([0, 1, A, 26]) for _ in range(n - 1)]))
     for cmd in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
         await tb.command(m, packet(A, cmd))
     # cmdIndexErr, each reason, with and without extra bytes (no cmdTooLong after an error).
@@ -211,6 +216,8 @@ async def test_messages(dut) -> None:
     # cmdHB from the host: silent for any N, any type.
     for data in ([CMD_HB], [CMD_HB, 2], [CMD_HB, 3], [CMD_HB, 0], [CMD_HB, 2, 1, 2, 3, 4, 5, 6]):
         await tb.command(m, packet(A, *data))
+    for n in range(3, MAX_DATA):
+        await tb.command(m, packet(A, CMD_HB, *range(2, n + 1)))
     await ReadOnly()
     assert int(dut.link_up.value) == 0, "link_up must be 0 while HB_RATE = 0"
     await RisingEdge(dut.clk)
@@ -321,6 +328,56 @@ async def test_fixed_pins(dut) -> None:
             await tb.command(m, packet(A, CMD_DIG_RST, pin))
             await set_pins_checked(tb, m, lv(start))
             await set_pins_checked(tb, m, lv(1 - start))
+    tb.check_no_errors()
+
+
+@SUITE.test("gp1", "slow_fixed")
+async def test_forms_by_pin_kind(dut) -> None:
+    """Every form (N = 2..8) of every pin command on a pin of each kind: an input and an
+    output with and without a timer, each fixed pin as it is, and pins out of range. Each
+    PTIME_RD that starts its timer is run to its result (the pad at the non-target level
+    first, then driven to the target); a busy timer gets tmrConflict in every form."""
+    tb, m = await setup(dut, pins=0)
+    free_timer = [p for p in P.free_pins if P.has_timer(p)]
+    free_plain = [p for p in P.free_pins if not P.has_timer(p)]
+    cases: list[tuple[int, int | None]] = []  # (pin, DIGCFG to set first, None: leave it)
+    for pins in (free_timer, free_plain):
+        if pins:
+            cases += [(pins[0], DIGCFG_IODIR), (pins[0], 0x00)]
+    cases += [(p, None) for p in P.pins if P.is_fixed(p)]
+    cases += [(P.num_pins, None), (63, None)]
+    for pin, cfg in cases:
+        if cfg is not None:
+            await configure(tb, m, pin, cfg)
+        in_range = pin < P.num_pins
+        for n in range(2, MAX_DATA + 1):
+            extra = tuple(range(1, n - 2)) if n > 3 else ()
+            keep = m.digcfg(pin) if in_range else 0x01
+            if n == 2:
+                await tb.command(m, packet(A, CMD_DIG_CFG, pin))
+                await tb.command(m, packet(A, CMD_DIG_IO, DEVCODE_HOST | (pin & 0x3F)))
+            else:
+                await tb.command(m, packet(A, CMD_DIG_CFG, pin, keep, *extra))
+                await tb.command(m, packet(A, CMD_DIG_IO, pin, n & 1, *extra))
+            tb.check_pins(m)
+            rst_extra = tuple(range(n - 2))
+            await tb.command(m, packet(A, CMD_DIG_RST, pin, *rst_extra))
+            timed = in_range and P.has_timer(pin) and m.is_input(pin)
+            if not timed:
+                await tb.command(m, packet(A, CMD_PTIME_RD, DEVCODE_HOST | (pin & 0x3F), *rst_extra))
+                continue
+            target = int(bool(m.cfg[pin] & DIGCFG_TSTATE))
+            await set_pins_checked(tb, m, tb.pins & ~(1 << pin) | (1 - target) << pin)
+            got = await measure(tb, m, pin, DEVCODE_HOST, [(20e-6, target)], rst_extra)
+            assert got, got
+        if in_range and P.has_timer(pin) and m.is_input(pin):
+            # Busy: tmrConflict in every form, then the running measurement ends normally.
+            target = int(bool(m.cfg[pin] & DIGCFG_TSTATE))
+            await set_pins_checked(tb, m, tb.pins & ~(1 << pin) | (1 - target) << pin)
+            t0, wave = await start_timer(tb, m, pin, DEVCODE_HOST, [(1e-3, target)])
+            for n in range(2, MAX_DATA + 1):
+                await tb.command(m, packet(A, CMD_PTIME_RD, DEVCODE_HOST | pin, *range(n - 2)))
+            await finish_timers(tb, m, {pin: (t0, wave)})
     tb.check_no_errors()
 
 

@@ -9,13 +9,28 @@ checked by test_commands' test_messages on every build.)
 
 from __future__ import annotations
 
+import itertools
+
 import pytest
 
-from bsd_model import CMD_HB, HB_ANSWER, TICK_S, Model, Output, packet
+from bsd_model import (
+    CMD_DIG_CFG,
+    CMD_HB,
+    DEVCODE_HOST,
+    DEVCODE_RFLX,
+    DIGCFG_IODIR,
+    DIGCFG_TSTATE,
+    HB_ANSWER,
+    TICK_S,
+    Model,
+    Output,
+    packet,
+    timer_interval,
+)
 from bsd_tb import TB, TBError
 from suite import Suite, on
 from top_builds import BUILDS
-from top_helpers import P, need
+from top_helpers import P, check_result, need, start_timer, timer_value
 
 SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
@@ -106,6 +121,55 @@ async def test_heartbeats_and_link_up(dut) -> None:
     # The queued heartbeat leaves now, with its own type; the next one has the other type.
     await tb.expect(Output(packets=queued), what="the stall")
     await tb.next_due(model)
+    tb.check_no_errors()
+
+
+@SUITE.test("heartbeat")
+async def test_stall_with_waiting_packets(dut) -> None:
+    """The output stalled while any mix of a command reply, a timer result and a heartbeat
+    falls due (all eight): nothing leaves during the stall, the RFLX strobe is not held
+    back, and on the release every waiting packet leaves whole, in the order of its event
+    (timer result, reply, heartbeat)."""
+    p = P
+    need(bool(p.hb_rate) and p.has_timer(1) and not p.is_fixed(1), "heartbeats and a timer on pin 1")
+    tb = HeartbeatTB(dut, p)
+    m = Model(p)
+    await tb.begin(m)
+    a, pin = p.module_addr, 1
+    await tb.command(m, packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_TSTATE))  # edge to 1
+    for want_r, want_t, want_h in itertools.product((0, 1), repeat=3):
+        await tb.next_due(m)  # a fresh period: the stall below ends well before the next one
+        tb.sink.paused = True
+        exp = Output()
+        if want_t:
+            t0, wave = await start_timer(tb, m, pin, DEVCODE_HOST | DEVCODE_RFLX, [(100e-6, 1), (150e-6, 0)])
+            await tb.until_s(t0 + 300e-6)
+        if want_r:
+            query = packet(a, CMD_DIG_CFG, pin)
+            reply = m.feed(query)
+            await tb.source.wait_sent(tb.source.send_nowait(query))
+        await tb.wait_s(200e-6)
+        hb: list[bytes] = []
+        if want_h:
+            hb = await tb.next_due(m, "queued")
+        if tb.new_packets():
+            raise TBError("a packet left while the output was stalled")
+        tb.sink.paused = False
+        n = want_t + want_r + len(hb)
+        if not await tb.wait_new_packets(n, 2e-3):
+            raise TBError(f"{n} packets expected after the release")
+        if want_t:
+            got = timer_value(tb, m, pin)
+            if got is None:
+                raise TBError("no timer result after the release")
+            check_result(pin, got, timer_interval(t0, wave, False, 1))
+            exp.extend(m.timer_complete(pin, got))
+        if want_r:
+            exp.extend(reply)
+        exp.extend(Output(packets=hb))
+        await tb.expect(exp, what=f"the release (reply {want_r}, timer {want_t}, heartbeat {want_h})")
+        if want_t:
+            m.set_pin(pin, 0)
     tb.check_no_errors()
 
 

@@ -108,8 +108,8 @@ async def test_polling_grid(dut) -> None:
 
 @SUITE.test("clk8_poll0")
 async def test_rearm_meets_edge(dut) -> None:
-    """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad rises, at every clock
-    offset around the command. The re-arm takes effect EXEC_CLOCKS after the last byte's
+    """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad moves in the TRG
+    direction (TRG rising, then falling), at every clock offset around the command. The re-arm takes effect EXEC_CLOCKS after the last byte's
     handshake and sees the pad 2 clocks late: an edge whose synchronized level arrives
     before the arm clock fires (then the arm re-baselines); one that arrives on the arm
     clock is absorbed (decision 5: re-arm wins); a later one fires after the arm."""
@@ -117,49 +117,52 @@ async def test_rearm_meets_edge(dut) -> None:
     tb = TB(dut, p)
     await tb.start()
     a, pin = p.module_addr, p.free_pins[0]
-    cfg = packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)
     half = tb.period_ps // 2
-    fires = {}
-    for d in range(-6, 5):
-        tb.set_pin(pin, 0)
-        await tb.source.send(cfg)          # arm with the pad low
-        await tb.cycles(10)
-        tb.new_trans()
-        # Drive the same command by hand so the handshake clock is known: byte i is taken
-        # at edge i; the pad rises a quarter clock after edge len-1+d.
-        last = len(cfg) - 1
-        rise = cocotb.start_soon(_rise_after_edges(tb, pin, last + d, half // 2))
-        for b in cfg:
-            dut.s_axis_tdata.value = b
-            dut.s_axis_tvalid.value = 1
-            await ReadOnly()
-            if int(dut.s_axis_tready.value) != 1:
-                raise TBError("the core stalled a command with no reply waiting")
-            await RisingEdge(tb.clk)
-        dut.s_axis_tvalid.value = 0
-        await rise
-        await tb.cycles(12)
-        fires[d] = len(tb.new_trans())
-    tb.log.info("fires by pad-rise offset: %s", fires)
-    # A pad rise a quarter clock after edge E0 + d reaches the latch's input at edge
-    # E0 + d + 2 and is compared at E0 + d + 3. Compared before the arm clock: fires
-    # once (and is re-baselined); on it (d = EXEC_CLOCKS - 3): absorbed; after: fires.
-    absorbed = EXEC_CLOCKS - 3
-    want = {d: 0 if d == absorbed else 1 for d in fires}
-    if fires != want:
-        raise TBError(f"fires by offset {fires}, expected {want}")
+    for trg in (1, 0):  # rising edges, then the same with falling ones
+        cfg = packet(a, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_ENA | (DIGCFG_TRG if trg else 0))
+        fires = {}
+        for d in range(-6, 5):
+            tb.set_pin(pin, 1 - trg)
+            await tb.source.send(cfg)          # arm with the pad away from the TRG level
+            await tb.cycles(10)
+            tb.new_trans()
+            # Drive the same command by hand so the handshake clock is known: byte i is
+            # taken at edge i; the pad moves a quarter clock after edge len-1+d.
+            last = len(cfg) - 1
+            move = cocotb.start_soon(_rise_after_edges(tb, pin, last + d, half // 2, trg))
+            for b in cfg:
+                dut.s_axis_tdata.value = b
+                dut.s_axis_tvalid.value = 1
+                await ReadOnly()
+                if int(dut.s_axis_tready.value) != 1:
+                    raise TBError("the core stalled a command with no reply waiting")
+                await RisingEdge(tb.clk)
+            dut.s_axis_tvalid.value = 0
+            await move
+            await tb.cycles(12)
+            fires[d] = len(tb.new_trans())
+        tb.log.info("TRG %d: fires by pad-edge offset: %s", trg, fires)
+        # A pad edge a quarter clock after edge E0 + d reaches the latch's input at edge
+        # E0 + d + 2 and is compared at E0 + d + 3. Compared before the arm clock: fires
+        # once (and is re-baselined); on it (d = EXEC_CLOCKS - 3): absorbed; after: fires.
+        absorbed = EXEC_CLOCKS - 3
+        want = {d: 0 if d == absorbed else 1 for d in fires}
+        if fires != want:
+            raise TBError(f"TRG {trg}: fires by offset {fires}, expected {want}")
+        if tb.fcov is not None:
+            tb.fcov.latch_race(trg)
 
 
-async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int) -> None:
+async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int, level: int = 1) -> None:
     if edges < 0:
-        # Negative offsets: rise before the first byte is even offered.
-        tb.set_pin(pin, 1)
+        # Negative offsets: the pad moves before the first byte is even offered.
+        tb.set_pin(pin, level)
         await Timer(1, unit="ps")
         return
     for _ in range(edges + 1):
         await RisingEdge(tb.clk)
     await Timer(extra_ps, unit="ps")
-    tb.set_pin(pin, 1)
+    tb.set_pin(pin, level)
 
 
 @SUITE.test("gp1", "slow_fixed", "gp2")

@@ -306,6 +306,43 @@ async def test_timer_timeout(dut) -> None:
     tb.check_no_errors()
 
 
+@SUITE.test("gp1", "clk2")
+async def test_timer_mode_outcomes(dut) -> None:
+    """Each timer mode (edge, width) with each target level: tmrConflict while busy (four
+    timers at once, each in one mode), then at 48 MHz a result of 1 (the edge or the pulse
+    well under a tick after its reference), at 2 MHz a timeout (no completion: result 0)."""
+    need(len(P.timer_pins) >= 4 and not P.fixed_mask, "four free timer pins")
+    tb, m = await setup(dut, pins=0)
+    modes = [(False, 0), (False, 1), (True, 0), (True, 1)]
+    tpins = P.timer_pins[:4]
+    levels = tb.pins
+    for pin, (width, target) in zip(tpins, modes):
+        await configure(tb, m, pin, DIGCFG_IODIR | (DIGCFG_TMODE if width else 0) | (DIGCFG_TSTATE if target else 0))
+        levels = levels & ~(1 << pin) | (1 - target) << pin
+    await set_pins_checked(tb, m, levels)
+    # Busy: every mode's running measurement answers a second PTIME_RD with tmrConflict.
+    runs = {}
+    for k, (pin, (width, target)) in enumerate(zip(tpins, modes)):
+        end = 300e-6 + 100e-6 * k
+        rel = [(end - 150e-6, target), (end, 1 - target)] if width else [(end, target), (end + 50e-6, 1 - target)]
+        runs[pin] = await start_timer(tb, m, pin, DEVCODE_HOST, rel)
+    for pin in tpins:
+        await tb.command(m, packet(A, CMD_PTIME_RD, DEVCODE_HOST | pin))
+    await finish_timers(tb, m, runs)
+    if P.clk_hz >= 12_000_000:
+        # A completion under one tick after its reference is reported as 1.
+        for pin, (width, target) in zip(tpins, modes):
+            rel = [(20e-6, target), (20.4e-6, 1 - target)] if width else [(0.4e-6, target), (20e-6, 1 - target)]
+            got = await measure(tb, m, pin, DEVCODE_HOST | DEVCODE_RFLX, rel)
+            assert got == 1, f"pin {pin}: result {got} for a sub-tick interval"
+    else:
+        # The pads never reach the target: every mode times out with result 0.
+        runs = {pin: await start_timer(tb, m, pin, DEVCODE_HOST, []) for pin in tpins}
+        results = await finish_timers(tb, m, runs, margin_s=200e-6)
+        assert all(v == 0 for v in results.values()), results
+    tb.check_no_errors()
+
+
 @SUITE.test("gp1", "gp2")
 async def test_reply_before_later_timer(dut) -> None:
     """DESIGN.md 1 at clock level: a command's reply or message is an event of the clock

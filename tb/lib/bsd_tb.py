@@ -25,6 +25,7 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, Event, First, ReadOnly, RisingEdge, Timer
 from cocotb.utils import get_sim_time
 
+import fcov
 from bsd_model import MAX_DATA, Model, Output, Params
 
 
@@ -198,6 +199,8 @@ class AxisSink:
     @paused.setter
     def paused(self, value: bool) -> None:
         self._paused = value
+        if self.tb.fcov is not None:
+            self.tb.fcov.on_pause(value)
         if value:
             self._resume.clear()
         else:
@@ -327,6 +330,7 @@ class TB:
         self.errors: list[str] = []
         self._pins = 0
         self.t_reset = 0.0
+        self.fcov: fcov.Sampler | None = None
         dut.rst.value = 1
         dut.pin_i.value = 0
         cocotb.start_soon(Clock(dut.clk, self.period_ps, unit="ps", impl="gpi",
@@ -339,6 +343,8 @@ class TB:
         self._n_pkt = 0
         self._n_rflx = 0
         self._n_trans = 0
+        if fcov.enabled():  # functional coverage ($BSD_FCOV_DIR): samples what expect checks
+            self.fcov = fcov.Sampler(self)
 
     # ---------------------------------------------------------------- time
     def now_s(self) -> float:
@@ -390,6 +396,8 @@ class TB:
         self.dut.rst.value = 0
         await RisingEdge(self.clk)
         self.t_reset = self.now_s()  # first edge that samples rst = 0
+        if self.fcov is not None:
+            self.fcov.on_reset()
 
     def set_pins(self, levels: int) -> None:
         self._pins = levels & ((1 << self.p.num_pins) - 1)
@@ -461,6 +469,7 @@ class TB:
                      what: str = "") -> list[RxPacket]:
         """Wait for the model's packets, then `settle_cycles` more for anything extra, and
         compare packets, RFLX strobes and raw_trans pulses with the model, byte for byte."""
+        t_begin = self.now_s() if self.fcov is not None else 0.0
         if timeout_s is None:
             timeout_s = 2e-3 + 200 * len(exp.packets) / self.p.clk_hz
         want = self._n_pkt + len(exp.packets)
@@ -475,17 +484,22 @@ class TB:
                 f"packets{ctx}: expected [{'; '.join(_hex(p) for p in exp.packets)}] "
                 f"got [{'; '.join(_hex(p) for p in got_b)}]"
             )
-        rflx = [(i, d) for _, i, d in self.new_rflx()]
+        rflx_t = self.new_rflx()
+        rflx = [(i, d) for _, i, d in rflx_t]
         if rflx != exp.rflx:
             raise TBError(f"RFLX strobes{ctx}: expected {exp.rflx} got {rflx}")
         trans = [p for _, p in self.new_trans()]
         if trans != exp.trans:
             raise TBError(f"raw_trans pulses{ctx}: expected {exp.trans} got {trans}")
         self.check_no_errors()
+        if self.fcov is not None:
+            self.fcov.on_expect(exp, got, rflx_t, t_begin)
         return got
 
     async def command(self, model: Model, data: Sequence[int], **kw) -> list[RxPacket]:
         """Send one host packet (or any bytes) and check what comes back against the model."""
+        if self.fcov is not None:
+            self.fcov.attach(model)
         exp = model.feed(data)
         await self.source.send(data)
         return await self.expect(exp, what=_hex(data), **kw)
@@ -513,6 +527,8 @@ class TB:
     async def start(self, model: Model | None = None, pins: int = 0) -> Output:
         """Reset with pads `pins`, and check the power-up message (against `model` if given)."""
         await self.reset(pins=pins)
+        if model is not None and self.fcov is not None:
+            self.fcov.attach(model)
         exp = model.reset(pins) if model is not None else Output()
         if model is not None:
             await self.expect(exp, what="reset")

