@@ -48,6 +48,8 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_uart_tx", "cover", True),
     ("bsd_tx", "prove", True),
     ("bsd_tx", "cover", True),
+    ("bsd_uart_rx", "prove", True),
+    ("bsd_uart_rx", "cover", True),
 ]
 
 RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}
