@@ -50,6 +50,8 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_tx", "cover", True),
     ("bsd_uart_rx", "prove", True),
     ("bsd_uart_rx", "cover", True),
+    ("bsd_parser", "prove", True),
+    ("bsd_parser", "cover", True),
 ]
 
 RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}
