@@ -46,12 +46,16 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_msg_merge", "cover", True),
     ("bsd_uart_tx", "prove", True),
     ("bsd_uart_tx", "cover", True),
+    ("bsd_uart_tx", "bmc", True),
     ("bsd_tx", "prove", True),
     ("bsd_tx", "cover", True),
     ("bsd_uart_rx", "prove", True),
     ("bsd_uart_rx", "cover", True),
+    ("bsd_uart_rx", "bmc", False),
     ("bsd_parser", "prove", True),
     ("bsd_parser", "cover", True),
+    ("brainstem_dio", "bmc", False),
+    ("brainstem_dio", "cover", False),
 ]
 
 RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}
