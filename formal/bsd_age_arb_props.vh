@@ -45,6 +45,10 @@
     end
 
     always @(*) if (f_past_valid && !rst) begin
+`ifndef F_ARB_IN_TX
+        // Not in bsd_tx's job: with K = 2 and sources that drop their request after their
+        // done_o, an older source 1 is never a candidate together with source 0.
         cover(gnt[K-1] && cand[0]);                  // a higher index wins by age
+`endif
         cover(gnt[0] && cand[K-1] && f_age[0] == f_age[K-1]);  // a tie goes to the lower index
     end

