@@ -21,7 +21,8 @@
    docs/coverage.md.
 
 If tools/fcov_report.py exists, the regression also gets BSD_FCOV_DIR=<folder> and the
-script runs `python tools/fcov_report.py --in <folder> --write` after it.
+script runs `python tools/fcov_report.py --in <folder> --check [--write]` after it (with
+--no-run too, on the folder the last run left), failing when a reachable bin is unhit.
 
     .venv/bin/python tools/coverage.py --write          # what make coverage runs
     .venv/bin/python tools/coverage.py --no-run         # report on the data files already there
@@ -512,11 +513,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             if run_regression(args.dat, args.jobs, args.pytest_args, fcov) != 0:
                 print("coverage: the regression failed; the figures below are incomplete", file=sys.stderr)
                 status = 1
-            if fcov is not None:
-                if subprocess.run([sys.executable, str(FCOV_TOOL), "--in", str(fcov), "--write"],
-                                  cwd=ROOT).returncode != 0:
-                    print("coverage: tools/fcov_report.py failed", file=sys.stderr)
-                    status = 1
+        if FCOV_TOOL.is_file() and FCOV.is_dir():  # functional coverage: every reachable bin
+            fcov_cmd = [sys.executable, str(FCOV_TOOL), "--in", str(FCOV), "--check"]
+            if subprocess.run(fcov_cmd + (["--write"] if args.write else []), cwd=ROOT).returncode:
+                print("coverage: tools/fcov_report.py --check failed", file=sys.stderr)
+                status = 1
         counts, runs = load(args.dat)
     except (UsageError, OSError, ValueError) as e:
         print(f"coverage: error: {e}", file=sys.stderr)
