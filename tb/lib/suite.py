@@ -60,8 +60,7 @@ class Case:
     build: str
     test: str
     args: Mapping[str, object] = field(default_factory=dict)
-
-    group: str = ""
+    group: str = ""  # the cases one simulator run serves: file, simulator, build, knobs
 
     @property
     def id(self) -> str:
@@ -70,7 +69,7 @@ class Case:
 
 # {group: the cocotb tests of its selected cases, in run order}, filled by conftest.py.
 _SELECTED: dict[str, list[str]] = {}
-# {group: (results, exit code, error)} of the run that served it, in this process.
+# {group or case id: (results, exit code, error, id of the case that started the run)}.
 _RUNS: dict[str, tuple[dict[str, str], object, str | None, str]] = {}
 
 
