@@ -57,6 +57,21 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_parser", "cover", True),
     ("brainstem_dio", "bmc", False),   # depth 28: about 65 s
     ("brainstem_dio", "cover", True),
+    ("bsd_sync", "prove", True),
+    ("bsd_sync", "cover", True),
+    ("bsd_cfg_regs", "prove", True),
+    ("bsd_cfg_regs", "cover", True),
+    ("bsd_rflx_arb", "prove", True),
+    ("bsd_rflx_arb", "prove_wait", True),
+    ("bsd_rflx_arb", "cover", True),
+    ("bsd_heartbeat", "prove", True),
+    ("bsd_heartbeat", "prove_hb0", True),
+    ("bsd_heartbeat", "cover", True),
+    ("bsd_heartbeat", "bmc", False),   # from any state, depth 4: for the mutants (about 1.5 s)
+    ("bsd_reply_slot", "prove", True),
+    ("bsd_reply_slot", "cover", True),
+    ("bsd_exec", "prove", True),
+    ("bsd_exec", "cover", True),
 ]
 
 RC_NAMES = {0: "PASS", 2: "FAIL", 4: "UNKNOWN"}

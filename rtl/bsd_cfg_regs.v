@@ -41,5 +41,9 @@ module bsd_cfg_regs #(
             end
         end
     endgenerate
+
+`ifdef FORMAL
+`include "bsd_cfg_regs_props.vh"
+`endif
 endmodule
 `default_nettype wire

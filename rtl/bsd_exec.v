@@ -289,5 +289,9 @@ module bsd_exec #(
     end
 `endif
 `endif
+
+`ifdef FORMAL
+`include "bsd_exec_props.vh"
+`endif
 endmodule
 `default_nettype wire

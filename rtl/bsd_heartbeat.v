@@ -71,5 +71,9 @@ module bsd_heartbeat #(
             link_up_q  <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_heartbeat_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -113,5 +113,9 @@ module bsd_reply_slot #(
             dio_below_q <= {NUM_PINS{1'b0}};
         end
     end
+
+`ifdef FORMAL
+`include "bsd_reply_slot_props.vh"
+`endif
 endmodule
 `default_nettype wire

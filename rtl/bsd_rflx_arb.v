@@ -68,5 +68,9 @@ module bsd_rflx_arb #(
             rflx_data_q  <= 16'd0;
         end
     end
+
+`ifdef FORMAL
+`include "bsd_rflx_arb_props.vh"
+`endif
 endmodule
 `default_nettype wire

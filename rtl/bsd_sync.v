@@ -18,5 +18,9 @@ module bsd_sync #(
     end
 
     assign q_o = sync_q;
+
+`ifdef FORMAL
+`include "bsd_sync_props.vh"
+`endif
 endmodule
 `default_nettype wire

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: Apache-2.0
+// Formal properties of bsd_cfg_regs (included at the end of the module under `ifdef FORMAL).
+// Inputs free (reset on the first clock). A reference register file written from the
+// header and PROTOCOL.md §3/§6: after reset every free pin's DIGCFG bits are 0x01 and every
+// output latch 0; a configuration write stores cfg_wdata_i in the addressed free pin only
+// (pin_idx_i beyond NUM_PINS - 1 addresses none); an output write stores out_wdata_i in the
+// addressed pin's latch only (fixed pins too). A fixed pin's cfg_o is FIXED_CFG's bits 4:0 on
+// every clock, reset included. cfg_o and out_o (the read-back) equal the reference after
+// every clock, and on a write every other pin keeps its value.
+    reg                  f_past_valid = 1'b0;
+    reg                  f_rst_q, f_cfg_we_q, f_out_we_q;
+    reg [5:0]            f_idx_q;
+    reg [5*NUM_PINS-1:0] f_cfg, f_cfg_o_q;
+    reg [NUM_PINS-1:0]   f_out, f_out_o_q;
+    integer              f_c, f_i;
+
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_rst_q      <= rst;
+        f_cfg_we_q   <= cfg_we_i;
+        f_out_we_q   <= out_we_i;
+        f_idx_q      <= pin_idx_i;
+        f_cfg_o_q    <= cfg_o;
+        f_out_o_q    <= out_o;
+        for (f_c = 0; f_c < NUM_PINS; f_c = f_c + 1) begin
+            if (cfg_we_i && pin_idx_i == f_c && !FIXED_MASK[f_c]) f_cfg[5*f_c +: 5] <= cfg_wdata_i;
+            if (out_we_i && pin_idx_i == f_c) f_out[f_c] <= out_wdata_i;
+            if (rst) begin
+                f_cfg[5*f_c +: 5] <= FIXED_MASK[f_c] ? FIXED_CFG[8*f_c +: 5] : 5'b00001;
+                f_out[f_c]        <= 1'b0;
+            end
+        end
+    end
+
+    always @(*) begin
+        if (!f_past_valid) assume(rst);
+        for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
+            if (FIXED_MASK[f_i]) assert(cfg_o[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
+            if (f_past_valid) begin
+                assert(cfg_o[5*f_i +: 5] == f_cfg[5*f_i +: 5]);
+                assert(out_o[f_i] == f_out[f_i]);
+                if (f_rst_q) begin
+                    assert(out_o[f_i] == 1'b0);
+                    if (!FIXED_MASK[f_i]) assert(cfg_o[5*f_i +: 5] == 5'b00001);
+                end else begin
+                    // Only the addressed pin changes.
+                    if (!(f_cfg_we_q && f_idx_q == f_i))
+                        assert(cfg_o[5*f_i +: 5] == f_cfg_o_q[5*f_i +: 5]);
+                    if (!(f_out_we_q && f_idx_q == f_i))
+                        assert(out_o[f_i] == f_out_o_q[f_i]);
+                end
+            end
+        end
+    end
+
+    // Covers: a free pin configured away from its reset value; a fixed pin's output latch
+    // set; a configuration write to a fixed pin (it stays); both writes on one clock.
+    always @(*) if (f_past_valid && !f_rst_q) begin
+        cover(cfg_o[4:0] == 5'b10110);
+        cover(out_o[1]);
+        cover(f_cfg_we_q && f_idx_q == 6'd1 && cfg_o[9:5] == FIXED_CFG[12:8]);
+        cover(f_cfg_we_q && f_out_we_q && f_idx_q == 6'd2 && cfg_o[14:10] != 5'b00001 && out_o[2]);
+    end
