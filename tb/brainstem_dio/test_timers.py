@@ -371,6 +371,27 @@ async def test_reply_before_later_timer(dut) -> None:
     tb.check_no_errors()
 
 
+@SUITE.test("clk2", "high_ids", deep=lambda sim, build: build == "high_ids" or sim == "icarus")
+async def test_long_result(dut) -> None:
+    """A result with every high bit set, delivered on HOST and RFLX: an edge 104.5 ms after
+    the start (65 312 ticks, 0xFF20, just under the 65 535-tick limit), then a short one
+    (about 100 us) on the same pin, both checked against the waveform and the model (the
+    RFLX strobe's value too). At 2 MHz (clk2) the long one costs some 210 k clocks; high_ids
+    (the one build with a timer on pin 0, at 48 MHz: 5 M clocks) runs it only in make
+    test-full and make coverage."""
+    need(bool(P.timer_pins), "a timer pin")
+    tb, m = await setup(dut, pins=0)
+    pin = next(p for p in P.timer_pins if m.is_input(p) and not P.is_fixed(p))
+    await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_TSTATE)  # edge mode, target 1; pad low
+    flags = DEVCODE_HOST | DEVCODE_RFLX
+    got = await measure(tb, m, pin, flags, [(104.5e-3, 1)])
+    assert got is not None and got >= 0xFE00, f"long result {got}"
+    await configure(tb, m, pin, DIGCFG_IODIR)  # target 0; the pad is high now
+    got = await measure(tb, m, pin, flags, [(100e-6, 0)])
+    assert got is not None and got < 0x100, f"short result {got}"
+    tb.check_no_errors()
+
+
 @pytest.mark.parametrize("case", SUITE.cases())
 def test_timers_top(case) -> None:
     SUITE.run(case)

@@ -41,10 +41,17 @@ from bsd_model import (
     CMD_HB,
     CMD_PTIME_RD,
     DEVCODE_HOST,
+    DEVCODE_RFLX,
+    DIGCFG_ENA,
+    DIGCFG_IODIR,
+    DIGCFG_TRG,
+    DIGCFG_TSTATE,
     HB_ANSWER,
     HB_UNIT_S,
     RESYNC_ADDR,
+    TICK_HZ,
     Model,
+    Output,
     Params,
     message,
     packet,
@@ -499,6 +506,106 @@ async def test_heartbeat_default_rate(dut) -> None:
     await Timer(8 * FRAME_PS, unit="ps")  # the host's answer: 4 bytes
     assert int(dut.link_up.value) == 1
     await host.expect([], "the heartbeat")
+
+
+class Pulses:
+    """(id, data) of every rflx_valid strobe and the pin of every raw_trans pulse, in order,
+    read in the clock each strobe is high (no per-clock loop while idle)."""
+
+    def __init__(self, dut) -> None:
+        self.dut = dut
+        self.rflx: list[tuple[int, int]] = []
+        self.trans: list[int] = []
+        cocotb.start_soon(self._watch(dut.rflx_valid, self._rflx))
+        cocotb.start_soon(self._watch(dut.raw_trans, self._trans))
+
+    def _rflx(self, _v: int) -> None:
+        self.rflx.append((int(self.dut.rflx_id.value), int(self.dut.rflx_data.value)))
+
+    def _trans(self, v: int) -> None:
+        self.trans += [p for p in range(P.num_pins) if v >> p & 1]
+
+    async def _watch(self, sig, record) -> None:
+        while True:
+            await sig.value_change
+            while True:
+                await ReadOnly()
+                v = sig.value
+                if not v.is_resolvable or int(v) == 0:
+                    break
+                record(int(v))
+                await RisingEdge(self.dut.clk)
+
+
+@SUITE.test(only=not_icarus_9600, deep=lambda sim, build: sim == "icarus")
+async def test_pins_latch_rflx(dut) -> None:
+    """The wrapper's pin ports and strobes against the model: pins 1..3 as outputs driven 1
+    then 0 (pin_o, pin_oe), every pin's transition latch armed for rising edges firing once
+    on raw_trans (and not on the fall), a DIG_IO read with RFLX on every pin (rflx_valid,
+    rflx_id, rflx_data), and a timer result of 0xFF20-odd ticks (an edge 104.5 ms after the
+    start) on RFLX: every bit of rflx_data set and cleared. About 260 k clocks; Icarus runs
+    it only in make test-full."""
+    host, m, strobes, rng = await setup(dut, 0)
+    seen = Pulses(dut)
+
+    async def pins_match(what: str) -> None:
+        await ReadOnly()
+        got = (int(dut.pin_oe.value), int(dut.pin_o.value))
+        assert got == (m.pin_oe(), m.pin_o()), f"after {what}: pin_oe/pin_o {got}"
+        await RisingEdge(dut.clk)
+
+    out_pins = [p for p in (1, 2, 3) if not P.is_fixed(p)]
+    for p in out_pins:
+        await host.command(m, packet(A, CMD_DIG_CFG, p, 0x00))
+        for v in (1, 0):
+            await host.command(m, packet(A, CMD_DIG_IO, p, v))
+            await pins_match(f"pin {p} <- {v}")
+    # Every pin an input with its latch armed for rising edges.
+    for p in P.pins:
+        await host.command(m, packet(A, CMD_DIG_CFG, p, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG))
+    await pins_match("all inputs")
+    hold_ps = int(3 * 1e12 / P.poll_hz) if P.poll_hz else 20 * PERIOD_PS
+    exp = Output()
+    for level in (1, 0):
+        for p in P.pins:
+            exp.extend(m.set_pin(p, level))
+            dut.pin_i.value = m.levels
+            await Timer(hold_ps, unit="ps")
+    assert exp.trans == list(P.pins) and seen.trans == exp.trans, (
+        f"raw_trans pulses {seen.trans}, model {exp.trans}")
+    # DIG_IO read with RFLX: the level on the RFLX strobe (pin p high on odd pins).
+    levels = sum(1 << p for p in P.pins if p % 2)
+    m.set_pins(levels)
+    dut.pin_i.value = levels
+    await Timer(hold_ps, unit="ps")
+    exp = Output()
+    for p in P.pins:
+        out = m.feed(packet(A, CMD_DIG_IO, DEVCODE_RFLX | p))
+        await host.send(packet(A, CMD_DIG_IO, DEVCODE_RFLX | p))
+        await host.expect(out.packets, f"RFLX read of pin {p}")
+        exp.extend(out)
+    assert exp.rflx and seen.rflx == exp.rflx, f"RFLX strobes {seen.rflx}, model {exp.rflx}"
+    # A long timer result on RFLX (timer pin, edge mode towards 1, its pad low).
+    pin = next(p for p in P.timer_pins if not P.is_fixed(p) and not levels >> p & 1)
+    await host.command(m, packet(A, CMD_DIG_CFG, pin, DIGCFG_IODIR | DIGCFG_TSTATE))
+    pkt = packet(A, CMD_PTIME_RD, DEVCODE_RFLX | pin)
+    assert not m.feed(pkt)
+    n_rflx = len(seen.rflx)
+    await host.send(pkt)
+    interval = 104.5e-3
+    await Timer(round(interval * 1e12), unit="ps")  # from the last byte's stop bit: a bit over
+    m.set_pin(pin, 1)
+    dut.pin_i.value = m.levels
+    await Timer(200_000_000, unit="ps")
+    new = seen.rflx[n_rflx:]
+    assert len(new) == 1 and new[0][0] == P.timer_id(pin), f"RFLX strobes {new}"
+    ticks = new[0][1]
+    assert 0xFE00 <= ticks < 0xFFFF and abs(ticks - interval * TICK_HZ) < 100, f"{ticks} ticks"
+    done = m.timer_complete(pin, ticks)
+    assert done.rflx == new and not done.packets, (done, new)
+    await host.quiet()
+    assert not host.new_packets() and not strobes.frame_err and not strobes.dropped()
+    host.check_line()
 
 
 @pytest.mark.parametrize("case", SUITE.cases())

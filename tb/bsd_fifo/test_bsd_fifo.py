@@ -17,7 +17,11 @@ import stream_check
 from runner import hdl_params
 from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_fifo", {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16}}, quick=on("icarus"))
+# d512: the serial wrapper's RX FIFO (brainstem_dio_uart's FIFO_DEPTH default, the board
+# tops' build), for its upper pointer bits; it runs only test_deep_fill_and_wrap.
+SUITE = Suite(__file__, "bsd_fifo", {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16},
+                                     "d512": {"WIDTH": 8, "DEPTH": 512}}, quick=on("icarus"))
+SMALL = ("d2", "d16")
 
 
 def make_tb(dut) -> stream_check.StreamTB:
@@ -25,18 +29,19 @@ def make_tb(dut) -> stream_check.StreamTB:
     return stream_check.StreamTB(dut, int(p["WIDTH"]), int(p["DEPTH"]) + 1)
 
 
-@SUITE.test()
+@SUITE.test(*SMALL)
 async def test_random_traffic(dut) -> None:
     """Every word comes out once, in order, never more inside than the capacity."""
     await stream_check.random_traffic(make_tb(dut))
 
 
-@SUITE.test()
+@SUITE.test(*SMALL)
 async def test_full_rate_and_capacity(dut) -> None:
     """One word a clock at full rate; exactly the capacity taken while stalled."""
     await stream_check.full_rate_and_capacity(make_tb(dut))
 
-@SUITE.test()
+
+@SUITE.test(*SMALL)
 async def test_fifo_empty_flag(dut) -> None:
     """empty_o is 1 exactly when no word is inside (the RAM and the output register)."""
     tb = make_tb(dut)
@@ -46,6 +51,44 @@ async def test_fifo_empty_flag(dut) -> None:
         await tb.step(int(rng.random() < 0.4), rng.randrange(1 << WIDTH), int(rng.random() < 0.6))
         await ReadOnly()
         assert int(dut.empty_o.value) == int(not tb.sent), f"empty_o with {len(tb.sent)} words inside"
+
+
+@SUITE.test("d512")
+async def test_deep_fill_and_wrap(dut) -> None:
+    """The 512-word RAM filled to the capacity (DEPTH + 1) with the output stalled, drained,
+    then over 1024 words at full rate (both pointers wrap past their top bit and back), and
+    filled and drained once more: every word once, in order, tready low exactly when full,
+    empty_o exactly when nothing is inside."""
+    tb = make_tb(dut)
+    cap = tb.capacity
+    await tb.reset()
+    word = 0
+
+    async def fill_and_drain() -> None:
+        nonlocal word
+        taken = 0
+        for _ in range(cap + 3):
+            took, gave = await tb.step(1, word & 0xFF, 0)
+            assert not gave
+            if took:
+                taken += 1
+                word += 1
+        assert taken == cap, f"took {taken} words with the output stalled, capacity {cap}"
+        assert int(dut.s_axis_tready.value) == 0 and int(dut.empty_o.value) == 0
+        while tb.sent:
+            await tb.step(0, 0, 1)
+        await ReadOnly()
+        assert int(dut.empty_o.value) == 1
+
+    await fill_and_drain()
+    for _ in range(1100):
+        took, _ = await tb.step(1, word & 0xFF, 1)
+        assert took, "input refused while the output is always ready"
+        word += 1
+    while tb.sent:
+        await tb.step(0, 0, 1)
+    await fill_and_drain()
+    assert tb.delivered == word == 2 * cap + 1100
 
 
 @pytest.mark.parametrize("case", SUITE.cases())
