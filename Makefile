@@ -207,15 +207,17 @@ formal: $(FORMAL_STAMP)
 # make test: lint first (CI runs exactly this), then the regression without the `deep` cases;
 # pytest's summary ends with the slowest tests, the measured figures and the build count.
 # make test-full: the same with the deep cases (each case again on the other simulator).
-# --dist loadgroup keeps the cases that share one simulator run on one worker (tb/lib/suite.py).
+# --dist loadgroup keeps the cases that share one simulator run on one worker (tb/lib/suite.py);
+# --no-loadscope-reorder keeps conftest.py's longest-first order (xdist would put the groups
+# with the most cases first).
 test: lint $(FORMAL_STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" --dist loadgroup $(PYTEST_ARGS) tb host/tests
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" --dist loadgroup --no-loadscope-reorder $(PYTEST_ARGS) tb host/tests
 
 # make test-full also runs every `make bitstream BOARD=...` through the real tools
 # (synth/tests/test_bitstreams.py; about 1-3 min per board on 2 cores; a board whose tools
 # are missing is skipped, and the skip names them).
 test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rsfE --durations=15 --dist loadgroup $(PYTEST_ARGS) tb host/tests synth/tests
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rsfE --durations=15 --dist loadgroup --no-loadscope-reorder $(PYTEST_ARGS) tb host/tests synth/tests
 
 # Where make test's time goes, measured on a fresh clone of HEAD (venv, builds per simulator,
 # simulation per test file, pytest-xdist idle time) -> the test-time table of docs/benchmarks.md.

@@ -464,7 +464,7 @@ def run_regression(dat: Path, jobs: int, extra: Sequence[str], fcov: Path | None
             shutil.rmtree(fcov)
         fcov.mkdir(parents=True)
         env["BSD_FCOV_DIR"] = str(fcov)
-    cmd = [sys.executable, "-m", "pytest", "-n", str(jobs), "-q", "-rfE", "--dist", "loadgroup",
+    cmd = [sys.executable, "-m", "pytest", "-n", str(jobs), "-q", "-rfE", "--dist", "loadgroup", "--no-loadscope-reorder",
            *PYTEST_SELECT, *extra]
     print("coverage: " + " ".join(cmd), flush=True)
     return subprocess.run(cmd, cwd=ROOT, env=env).returncode
