@@ -16,10 +16,9 @@ TIMEOUT = 30.0  # wall seconds for anything to happen, however loaded the machin
 
 
 def make_built(build: str, path: str, make_vars: list[str]) -> Path:
-    """Run `make build VARS` once, whichever xdist worker gets here first (one lock for all
-    harness builds: two need not compile at once on a small machine), and return the binary
-    that `make path VARS` names."""
-    lock_path = ROOT / "sim" / "build" / ".lock"
+    """Run `make build VARS` once, whichever xdist worker gets here first (a lock per build
+    target), and return the binary that `make path VARS` names."""
+    lock_path = ROOT / "sim" / "build" / f".{build}.lock"
     lock_path.parent.mkdir(parents=True, exist_ok=True)
     with open(lock_path, "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)

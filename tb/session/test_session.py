@@ -11,6 +11,9 @@ import pytest
 
 from harness import make_built
 
+# One worker runs this file: its binary builds once there, and its module fixtures start once.
+pytestmark = pytest.mark.xdist_group("session")
+
 ROOT = Path(__file__).resolve().parents[2]
 MAKE_VARS = ["CLK_HZ=48000000"]  # and the other GP 1.0 defaults
 

@@ -26,6 +26,9 @@ import pytest
 
 from harness import TIMEOUT, Lines, make_built
 
+# One worker runs this file: its binary builds once there, and its module fixtures start once.
+pytestmark = pytest.mark.xdist_group("virtual")
+
 ROOT = Path(__file__).resolve().parents[2]
 MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]  # and the other GP 1.0 defaults
 A = 2  # module address
