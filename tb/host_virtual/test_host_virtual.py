@@ -37,8 +37,9 @@ from brainstem_dio import (  # noqa: E402
     TmrConflict,
 )
 
-# One worker runs this file: its binary builds once there, and its module fixtures start once.
-pytestmark = pytest.mark.xdist_group("host_virtual")
+# One worker runs this file and tb/virtual (the same virtual module binary): it builds once
+# there, and the module fixtures start once.
+pytestmark = pytest.mark.xdist_group("virtual")
 
 A = 2
 CALL_TIMEOUT = 5.0  # seconds a library call may wait: generous, the machine may be loaded

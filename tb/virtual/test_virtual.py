@@ -26,7 +26,8 @@ import pytest
 
 from harness import TIMEOUT, Lines, make_built
 
-# One worker runs this file: its binary builds once there, and its module fixtures start once.
+# One worker runs this file and tb/host_virtual (the same virtual module binary): it builds
+# once there, and the module fixtures start once.
 pytestmark = pytest.mark.xdist_group("virtual")
 
 ROOT = Path(__file__).resolve().parents[2]
