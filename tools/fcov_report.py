@@ -30,7 +30,7 @@ sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
 from docregions import RegionError, fill_file  # noqa: E402
-from fcov import COVERPOINTS, FORMAT, Bin, all_bins, bin_key  # noqa: E402
+from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key  # noqa: E402
 
 DEFAULT_RULES = ROOT / "tools" / "fcov_unreachable.toml"
 DEFAULT_DOC = ROOT / "docs" / "coverage.md"
@@ -155,7 +155,8 @@ def _values(name: str, axis_values: Mapping[str, tuple[str, ...]], spec: object,
     return out
 
 
-def parse_rules(doc: Mapping[str, object], where: str = "<rules>") -> list[Rule]:
+def parse_rules(doc: Mapping[str, object], where: str = "<rules>",
+                points: Mapping[str, Axes] = COVERPOINTS) -> list[Rule]:
     rules = []
     raw = doc.get("rule", [])
     if not isinstance(raw, list):
@@ -168,12 +169,12 @@ def parse_rules(doc: Mapping[str, object], where: str = "<rules>") -> list[Rule]
         if extra:
             raise InputError(f"{w}: unknown keys {sorted(extra)}")
         name = r.get("coverpoint")
-        if name not in COVERPOINTS:
+        if name not in points:
             raise InputError(f"{w}: unknown coverpoint {name!r}")
         reason = r.get("reason")
         if not isinstance(reason, str) or not reason.strip():
             raise InputError(f"{w}: every unreachable bin needs a reason")
-        axis_values = dict(COVERPOINTS[name])
+        axis_values = dict(points[name])
         match = _values(name, axis_values, r.get("match"), w)
         if not match:
             raise InputError(f"{w}: empty match")
@@ -181,12 +182,12 @@ def parse_rules(doc: Mapping[str, object], where: str = "<rules>") -> list[Rule]
     return rules
 
 
-def load_rules(path: Path) -> list[Rule]:
+def load_rules(path: Path, points: Mapping[str, Axes] = COVERPOINTS) -> list[Rule]:
     try:
         doc = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise InputError(f"{path}: {e}") from None
-    return parse_rules(doc, str(path))
+    return parse_rules(doc, str(path), points)
 
 
 # -------------------------------------------------------------------------------- summary

@@ -67,7 +67,9 @@ from typing import Iterable, Mapping, Sequence
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 
+import fcov_report  # noqa: E402  (tools/; it puts tb/lib on sys.path)
 from docregions import RegionError, fill, fill_file  # noqa: E402
+from fcov import bins_of  # noqa: E402
 
 REGION = "testplan"
 DOCS = ("PROTOCOL", "DESIGN", "FPGA")
@@ -339,38 +341,20 @@ def coverpoints(lay: Layout) -> dict[str, tuple[tuple[str, tuple[str, ...]], ...
 
 def unreachable_bins(lay: Layout, points: Mapping[str, tuple[tuple[str, tuple[str, ...]], ...]]
                      ) -> dict[str, set[tuple[str, ...]]]:
-    """The bins tools/fcov_unreachable.toml calls unreachable (its `match` / `unless` rules)."""
+    """The bins tools/fcov_unreachable.toml calls unreachable, read by tools/fcov_report.py's
+    own rule reader (so the plan and the report cannot disagree)."""
     out: dict[str, set[tuple[str, ...]]] = {name: set() for name in points}
     path = lay.path(lay.unreachable)
     if not path.is_file():
         return out
     try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        raise PlanError(f"{lay.unreachable}: {e}") from None
-
-    def values(spec: object) -> dict[str, set[str]]:
-        if not isinstance(spec, Mapping):
-            return {}
-        return {str(a): {str(v) for v in (vs if isinstance(vs, list) else [vs])} for a, vs in spec.items()}
-
-    for rule in doc.get("rule", []):
-        name = rule.get("coverpoint")
-        if name not in points:
-            continue
-        index = {a: i for i, (a, _) in enumerate(points[name])}
-        match = [(index[a], vs) for a, vs in values(rule.get("match")).items() if a in index]
-        unless = [(index[a], vs) for a, vs in values(rule.get("unless")).items() if a in index]
-        for b in _all_bins(points[name]):
-            if all(b[i] in vs for i, vs in match) and not (unless and all(b[i] in vs for i, vs in unless)):
-                out[name].add(b)
-    return out
-
-
-def _all_bins(axes: tuple[tuple[str, tuple[str, ...]], ...]) -> list[tuple[str, ...]]:
-    out: list[tuple[str, ...]] = [()]
-    for _, vals in axes:
-        out = [b + (v,) for b in out for v in vals]
+        rules = fcov_report.load_rules(path, points)
+    except fcov_report.InputError as e:
+        raise PlanError(str(e)) from None
+    for name, axes_def in points.items():
+        axes = [a for a, _ in axes_def]
+        mine = [r for r in rules if r.coverpoint == name]
+        out[name] = {b for b in bins_of(axes_def) if any(r.covers(axes, b) for r in mine)}
     return out
 
 
@@ -394,7 +378,7 @@ def check_bin(spec: str, points: Mapping[str, tuple[tuple[str, tuple[str, ...]],
     if rest and not want:
         return f"empty bin pattern after {name!r}:"
     order = [a for a, _ in points[name]]
-    matching = [b for b in _all_bins(points[name])
+    matching = [b for b in bins_of(points[name])
                 if all(dict(zip(order, b))[a] in vs for a, vs in want.items())]
     if all(b in unreachable.get(name, set()) for b in matching):
         return "every bin it matches is unreachable (tools/fcov_unreachable.toml)"

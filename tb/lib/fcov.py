@@ -82,11 +82,16 @@ def bin_key(values: Sequence[str]) -> str:
     return "|".join(values)
 
 
-def all_bins(name: str) -> list[Bin]:
+def bins_of(axes: Axes) -> list[Bin]:
+    """Every bin (one value per axis) of a coverpoint with these axes."""
     out: list[Bin] = [()]
-    for _, values in COVERPOINTS[name]:
+    for _, values in axes:
         out = [b + (v,) for b in out for v in values]
     return out
+
+
+def all_bins(name: str) -> list[Bin]:
+    return bins_of(COVERPOINTS[name])
 
 
 class Hits:

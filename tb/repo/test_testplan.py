@@ -335,7 +335,7 @@ def test_unreachable_bins_are_fcov_reports():
     rules = fcov_report.load_rules(fcov_report.DEFAULT_RULES)
     for name, axes_def in points.items():
         axes = [a for a, _ in axes_def]
-        ref = {b for b in testplan._all_bins(axes_def)
+        ref = {b for b in testplan.bins_of(axes_def)
                if any(r.coverpoint == name and r.covers(axes, b) for r in rules)}
         assert mine[name] == ref, name
 
