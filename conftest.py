@@ -71,14 +71,14 @@ def pytest_collection_modifyitems(config, items) -> None:
     for i, item in enumerate(items):
         first.setdefault(group_of[id(item)], i)
 
-    def key(item) -> tuple[float, int, int]:
+    def key(item) -> tuple[float, int]:
         g = group_of[id(item)]
         if known:
-            return (-weight[g], first[g], 0)
+            return (-weight[g], first[g])
         path = item.nodeid.split("::", 1)[0]
         early = path.startswith(("tb/brainstem_dio", "tb/bsd_tick_gen/test_bsd_tick_gen_drift",
                                  "tb/virtual", "tb/host_virtual"))
-        return (0.0 if early else 1.0, first[g], 0)
+        return (0.0 if early else 1.0, first[g])
 
     items.sort(key=key)  # stable: a group's cases keep their collection order
     if not known:

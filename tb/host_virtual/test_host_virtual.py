@@ -12,9 +12,9 @@ the port, and the CLI's subcommands as subprocesses with their exit codes. The p
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
-import re
 import time
 from pathlib import Path
 from typing import Iterator
