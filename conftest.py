@@ -57,8 +57,9 @@ def pytest_sessionfinish(session) -> None:
 
 def pytest_collection_modifyitems(config, items) -> None:
     """Longest first, so that pytest-xdist does not end the run waiting on one long test:
-    ordered by the durations this checkout's last run recorded, a group of cases that share
-    one simulator run (tb/lib/suite.py) weighed as a whole and kept together; with no record
+    ordered by the durations this checkout's last run recorded, an xdist group (the cases
+    that share one simulator run, tb/lib/suite.py, or a file that keeps to one worker) weighed
+    as a whole and kept together in its collection order; with no record
     (a fresh clone), the top-level and serial-link files, which hold the long simulations,
     go first. Only the order changes, never the selection."""
     known = runner.item_durations()
@@ -105,5 +106,7 @@ def _case(item):
 
 
 def _group(item) -> str | None:
-    case = _case(item)
-    return case.group if case is not None else None
+    """The item's xdist_group: a suite's cases that share a simulator run (tb/lib/suite.py
+    marks them), or a file that wants one worker (pytestmark). Its items keep their order."""
+    mark = item.get_closest_marker("xdist_group")
+    return str(mark.kwargs.get("name", mark.args[0] if mark.args else "")) if mark else None

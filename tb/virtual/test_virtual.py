@@ -347,11 +347,14 @@ def test_waves_record_the_session(fresh, tmp_path: Path) -> None:
 
 def test_wait_follows_the_wall_clock(fresh) -> None:
     v = fresh()
-    t0 = time.monotonic()
     v.send("wait 200ms", "pin 3 low")
     i = v.out.wait(r"\] pin 3 low")
-    assert time.monotonic() - t0 >= 0.2
-    assert float(re.match(r"\[ *([\d.]+) ms\]", v.out.lines[i]).group(1)) >= 200.0
+    seen = time.monotonic() - v.started
+    # 200 ms of simulated time, and the line not ahead of the wall clock. (Not "0.2 s of wall
+    # time since the send": a module that had fallen behind on a loaded machine catches up
+    # faster than real time, so that measure was once 0.197 s.)
+    stamp = float(re.match(r"\[ *([\d.]+) ms\]", v.out.lines[i]).group(1)) / 1e3
+    assert 0.2 <= stamp <= seen, (stamp, seen)
     v.proc.stdin.close()
     assert v.wait_exit() == 0
     elapsed = time.monotonic() - v.started
