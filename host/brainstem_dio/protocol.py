@@ -33,6 +33,12 @@ from ._protocol_table import (  # noqa: E402,F401  (re-exported: the library's c
 TICK_S = 1.0 / TICK_HZ
 TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S  # 104.856 ms
 HB_UNIT_S = HB_UNIT_TICKS * TICK_S  # 25.6 ms
+# DIGCFG bits 6:5: always 0 in a reply (§3), every bit that is neither FIXED nor stored.
+DIGCFG_RESERVED = 0xFF & ~(DIGCFG_FIXED | DIGCFG_STORED)
+
+# TODO(cmdRESET): import CMD_RESET from ._protocol_table once tools/protocol.toml defines
+# it (on main), and drop this line.
+CMD_RESET = 24
 
 
 COMMAND_NAMES = COMMANDS
