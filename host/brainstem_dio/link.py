@@ -23,15 +23,17 @@ Timer results (`cmdDEV_VAL` with N = 4) are attributed per timer (address, devic
 module runs one measurement per timer at a time, refuses a PTIME_RD while the timer is busy
 (tmrConflict), and sends the results of one timer in the order of the measurements. A result
 is given only to a wait whose start the module confirmed (the PTIME_RD's sync echo came back
-clean): the oldest such wait. A result that arrives while the timer has none, but a start is
-still unconfirmed, is held: it may be that start's own (a pulse shorter than the sync echo
-ends before the echo leaves). When a start is confirmed, every wait ahead of it on that
-timer is stale (the module sent all earlier results before it ran the PTIME_RD) and is
-dropped: a confirmed one whose result never came fails with ProtocolError. Of the results
-held, those that arrived before the PTIME_RD was written are not its own; the last one after
-it is, unless a start ahead of it that was never confirmed (a PTIME_RD whose call timed out
-or was lost in a resync) might have produced it: then it is the new measurement's only if no
-other result follows within the timer timeout (104.9 ms) plus CANDIDATE_SLACK of the
+clean): the oldest such wait still waiting (a wait given up after its start was confirmed
+takes its late result, and sends it to the queue, only while no start is unconfirmed). A
+result that arrives while the timer has no such wait, but a start is unconfirmed, is held: it
+may be that start's own (a pulse shorter than the sync echo ends before the echo leaves).
+When a start is confirmed, every wait ahead of it on that timer is stale (the module sent all
+earlier results before it ran the PTIME_RD) and is dropped: a confirmed one still waiting
+whose result never came fails with ProtocolError. Of the results held, those that arrived
+before the PTIME_RD was written are not its own; the last one after it is, unless a wait
+ahead of it that was given up or never confirmed (a PTIME_RD whose call timed out or was
+lost in a resync) might have produced it: then it is the new measurement's only if no other
+result follows within the timer timeout (104.9 ms) plus CANDIDATE_SLACK of the
 confirmation. Heartbeats are answered and shown to listeners only. The power-up message,
 cmdQOverflow and anything no call claims go to the unsolicited queue (or the `on_unsolicited`
 callback).
@@ -563,12 +565,12 @@ class Link:
         free, so every earlier result of this timer had left before: the waits ahead of `w`
         are stale, and of the results held, at most the last is `w`'s."""
         w.state = "running"
-        unconfirmed = 0
+        unsure = 0  # waits ahead that may have sent a result after w's PTIME_RD was written
         for old in list(itertools.takewhile(lambda o: o is not w, dq)):
             dq.remove(old)
-            if old.state == "unconfirmed":
-                unconfirmed += 1
-            elif old.state == "running":
+            if old.state in ("unconfirmed", "ghost"):
+                unsure += 1
+            if old.state == "running":
                 if old.candidate is not None:  # nothing followed it: it was old's own
                     self._deliver(old, old.candidate, actions)
                 else:
@@ -578,7 +580,7 @@ class Link:
                         " has started the next measurement on that timer" + self.diagnosis()
                     )
                     actions.append(old.event.set)
-            elif old.candidate is not None:  # a ghost
+            elif old.candidate is not None:  # a ghost's
                 unsolicited.append(old.candidate)
         held = self._parked.pop(key, [])
         unsolicited.extend(p for n, p in held if n <= w.mark)  # before the PTIME_RD was written
@@ -586,7 +588,7 @@ class Link:
         if not after:
             return
         unsolicited.extend(after[:-1])
-        if len(after) > unconfirmed:
+        if len(after) > unsure:
             dq.remove(w)
             self._deliver(w, after[-1], actions)
         else:
@@ -600,10 +602,14 @@ class Link:
         actions.append(w.event.set)
 
     def _tidy(self, key: tuple[int, int], unsolicited: list[Packet]) -> None:
-        """Forget an empty wait list; release held results once no start is unconfirmed."""
+        """Forget an empty wait list; release held results once no start is unconfirmed
+        (each taking a given-up wait at the head along: results come in order)."""
         dq = self._timers.get(key)
         if not any(o.state == "starting" for o in dq or ()):
-            unsolicited.extend(p for _, p in self._parked.pop(key, []))
+            for _, p in self._parked.pop(key, []):
+                if dq and dq[0].state == "ghost":
+                    dq.popleft()
+                unsolicited.append(p)
         if dq is not None and not dq:
             del self._timers[key]
 
@@ -872,10 +878,15 @@ class Link:
         n = self._timer_rx.get(key, 0) + 1
         self._timer_rx[key] = n
         dq = self._timers.get(key)
-        while dq and dq[0].state in ("running", "ghost"):
+        starting = bool(dq) and any(o.state == "starting" for o in dq)  # type: ignore[union-attr]
+        while dq:
             w = dq[0]
-            if self._settle_candidate(w, time.monotonic(), actions):
+            if w.state == "running" and self._settle_candidate(w, time.monotonic(), actions):
                 continue  # the held result was w's; this one is a later measurement's
+            # A given-up measurement takes its late result, unless a start is unconfirmed:
+            # its result was perhaps lost on the line and this is the new measurement's.
+            if w.state != "running" and not (w.state == "ghost" and not starting):
+                break
             dq.popleft()
             if not dq:
                 del self._timers[key]
@@ -887,7 +898,7 @@ class Link:
                 return "late timer result"
             self._deliver(w, p, actions)
             return "timer result"
-        if dq and any(o.state == "starting" for o in dq):
+        if starting:
             self._parked.setdefault(key, []).append((n, p))
             return "timer result (held until its start is confirmed)"
         unsolicited.append(p)

@@ -125,3 +125,40 @@ def test_a_result_held_for_a_start_refused_with_tmr_conflict_goes_to_the_queue(r
     with pytest.raises(brainstem_dio.TmrConflict):
         m.start_timer(3)
     assert m.receive(1.0) == Packet.of(2, 4, 13, 0, 0xA)
+
+
+def test_a_result_lost_on_the_line_does_not_break_the_pin(rig):
+    """A confirmed measurement whose result never arrives (a corrupted packet) times out; the
+    next measurements' results, each before its start is confirmed, are theirs."""
+    m, fake = rig(mod_timeout=0.2)
+    fake.instant_timers = True
+    script(fake, lambda n: n == 1)  # the first runs, its result is lost on the line
+    with pytest.raises(brainstem_dio.Timeout, match="timer result"):
+        m.time_pin(3)
+    ticks = []
+    for i in range(3):
+        fake.timer_results[3] = 20 + i
+        ticks.append(m.time_pin(3).ticks)
+    assert ticks == [20, 21, 22]
+    assert m.link._timers == {}
+
+
+def test_a_late_result_of_a_given_up_wait_is_not_the_next_ones(rig):
+    """The first result comes after its wait gave up, while the next start is unconfirmed;
+    the next measurement's result follows its confirmation."""
+    m, fake = rig()
+    m.receive(1.0)
+
+    def on_ptime(n: int):
+        if n == 2:
+            fake.inject(result(3, 0xA))  # the first's, late
+            threading.Timer(0.03, fake.inject, (result(3, 0xB),)).start()
+        return True
+
+    script(fake, on_ptime)
+    first = m.start_timer(3)
+    with pytest.raises(brainstem_dio.Timeout):
+        first.result(timeout=0.01)
+    second = m.start_timer(3)
+    assert second.result().ticks == 0xB
+    assert m.drain() == [Packet.of(2, 4, 13, 0, 0xA)]
