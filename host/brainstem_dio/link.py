@@ -15,9 +15,9 @@ were written, per module address, and gives each arriving packet to the oldest o
   If the echo of a *later* echo call arrives first, the calls before it lost their answers
   and fail with ProtocolError.
 
-* a *reset* call (`Module.reset`) ends at the power-up message; every call of that module
-  written before it, and every timer wait whose PTIME_RD was, fails with ModuleReset (the
-  module drops what it has not yet sent).
+* a *reset* call (`Module.reset`) ends at the power-up message (or cmdInvalid); every call
+  of that module written before it, and every timer wait whose PTIME_RD was, fails with
+  ModuleReset (the module drops what it has not yet sent).
 
 Timer results (`cmdDEV_VAL` with N = 4) are attributed per timer (address, device ID). The
 module runs one measurement per timer at a time, refuses a PTIME_RD while the timer is busy
@@ -841,6 +841,11 @@ class Link:
             self._complete(head, actions, unsolicited)
             return head
         if p.is_message:
+            if head.kind == "reset" and p.message_code != P.MSG_CMD_INVALID:
+                # A late answer of a call that timed out (reset() does not sync first);
+                # cmdInvalid is the answer of a module without cmdRESET.
+                unsolicited.append(p)
+                return None
             if head.kind != "echo":
                 head.error = p
                 self._complete(head, actions, unsolicited)

@@ -356,8 +356,9 @@ class Module:
         everything it had not yet sent, so every call to it still waiting (from any thread:
         replies, `wait=False` commands, timer results) fails with `ModuleReset`; the errors of
         `wait=False` commands are not raised again by `sync()`. Raises CmdInvalid from a
-        module without cmdRESET, and `Timeout` if the power-up message does not come."""
-        self._auto_sync()
+        module without cmdRESET, and `Timeout` if the power-up message does not come. It
+        does not sync first, even after a Timeout: a module that stopped answering echoes
+        can still be reset, and what it had not sent is dropped anyway."""
         data = bytes([P.CMD_RESET])
         t = self.link.submit(self.addr, self._packet(data), command=data, label="reset", reset=True)
         self._finish(t, timeout)

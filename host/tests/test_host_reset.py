@@ -98,6 +98,29 @@ def test_reset_of_a_module_without_cmd_reset(mod):
     assert m.echo(b"\x01") == b"\x01"
 
 
+def test_reset_needs_no_sync_after_a_timeout(mod):
+    """A module that answers nothing but cmdRESET (and sends a stray late message) can still
+    be reset after a call timed out."""
+    m, fake = mod
+
+    def hook(addr: int, data: bytes) -> bool:
+        if data[:1] == bytes([P.CMD_RESET]):
+            fake.inject(bytes([2, 2, 0x80, P.MSG_TMR_CONFLICT]))  # a late answer, then the reset
+            return False
+        return True  # nothing else is answered
+
+    fake.on_packet = hook
+    with pytest.raises(brainstem_dio.Timeout):
+        m.query(3, timeout=0.02)
+    m.reset(timeout=1.0)
+    assert fake.resets == 1
+    assert m.receive(1.0) == Packet.of(2, 0x80, P.MSG_TMR_CONFLICT)
+    fake.on_packet = None
+    echoes = len(fake.packets_with(P.CMD_DEBUG))
+    assert m.query(3) == DigCfg()
+    assert len(fake.packets_with(P.CMD_DEBUG)) == echoes  # no sync first: nothing late can come
+
+
 def test_reset_without_an_answer_is_a_timeout(mod):
     m, fake = mod
     fake.mute = True
