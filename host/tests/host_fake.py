@@ -285,8 +285,11 @@ class FakeModule:
         if cmd == P.CMD_DEBUG:
             self._answer(bytes([self.addr, len(d)]) + d)
             return
-        if cmd == P.CMD_RESET and self.knows_reset:
-            self._reset()
+        if cmd == P.CMD_RESET:
+            if self.knows_reset:
+                self._reset()
+            else:
+                self._msg(P.MSG_CMD_INVALID)
             return
         longest = P.CMD_MAX_N.get(cmd)
         if longest is None:
