@@ -327,6 +327,12 @@ def test_cli_time(target: Target) -> None:
     assert "pin 4: timeout" in r.stdout
 
 
+def test_cli_reset(target: Target) -> None:
+    r = cli(target.port, "reset", baud=target.baud)
+    assert r.returncode == 0, r.stderr
+    assert re.fullmatch(r"module 2 reset: power-up message after [\d.]+ ms\n", r.stdout), r.stdout
+
+
 def test_cli_watch(target: Target) -> None:
     r = cli(target.port, "watch", "--duration", "1", baud=target.baud)
     assert r.returncode == 0, r.stderr
