@@ -96,17 +96,31 @@ module brainstem_dio #(
     end
 `endif
 
+    // ------------------------------------------------------------ cmdRESET
+    // The executor's cmdRESET strobe resets every block as rst does, one clock
+    // later, except two: the parser, which has taken no byte after the packet
+    // (hold below) and so already waits for an address, and keeps the bytes
+    // that come after it for after the reset; and the transmitter, which
+    // finishes a packet already partly sent (bsd_tx, flush_i).
+    wire soft_reset;
+    reg  soft_rst_q;
+    always @(posedge clk) begin
+        soft_rst_q <= soft_reset;
+        if (rst) soft_rst_q <= 1'b0;
+    end
+    wire core_rst = rst || soft_rst_q;
+
     // ------------------------------------------------------ time and inputs
     wire tick;
     wire poll;
     wire [NUM_PINS-1:0] level;
 
     bsd_tick_gen #(.CLK_HZ(CLK_HZ), .RATE_HZ(TICK_HZ)) u_tick (
-        .clk(clk), .rst(rst), .tick_o(tick)
+        .clk(clk), .rst(core_rst), .tick_o(tick)
     );
 
     bsd_tick_gen #(.CLK_HZ(CLK_HZ), .RATE_HZ(POLL_HZ)) u_poll (
-        .clk(clk), .rst(rst), .tick_o(poll)
+        .clk(clk), .rst(core_rst), .tick_o(poll)
     );
 
     bsd_sync #(.WIDTH(NUM_PINS)) u_sync (
@@ -118,12 +132,15 @@ module brainstem_dio #(
     reg [1:0] init_q;
     always @(posedge clk) begin
         init_q <= {init_q[0], 1'b0};
-        if (rst) init_q <= 2'b11;
+        if (core_rst) init_q <= 2'b11;
     end
     wire init_arm = |init_q;
 
     // -------------------------------------------------------------- parsing
-    wire       pkt_hold;
+    wire       slot_hold;
+    // The clock of the reset itself holds too: a packet handed over then
+    // would meet the reply slot as the reset fills it with the power-up message.
+    wire       pkt_hold = slot_hold || soft_rst_q;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -176,7 +193,7 @@ module brainstem_dio #(
         .PIN_ID_BASE (PIN_ID_BASE)
     ) u_exec (
         .clk             (clk),
-        .rst             (rst),
+        .rst             (core_rst),
         .pkt_valid_i     (pkt_valid),
         .pkt_kind_i      (pkt_kind),
         .pkt_n_i         (pkt_n),
@@ -198,6 +215,7 @@ module brainstem_dio #(
         .timer_rflx_o    (timer_rflx),
         .hb_answer_o     (hb_answer),
         .hb_answer_down_o(hb_answer_down),
+        .soft_reset_o    (soft_reset),
         .s2_valid_o      (s2_valid),
         .reply_o         (s2_reply),
         .reply_n_o       (s2_reply_n),
@@ -220,7 +238,7 @@ module brainstem_dio #(
 
     bsd_reply_slot #(.NUM_PINS(NUM_PINS), .TIMER_ID_BASE(TIMER_ID_BASE)) u_slot (
         .clk          (clk),
-        .rst          (rst),
+        .rst          (core_rst),
         .pkt_valid_i  (pkt_valid),
         .s2_valid_i   (s2_valid),
         .reply_i      (s2_reply),
@@ -230,7 +248,7 @@ module brainstem_dio #(
         .dio_rflx_i   (s2_dio_rflx),
         .dio_id_i     (s2_dio_id),
         .dio_val_i    (s2_dio_val),
-        .hold_o       (pkt_hold),
+        .hold_o       (slot_hold),
         .rep_req_o    (rep_req),
         .rep_n_o      (rep_n),
         .rep_data_o   (rep_data),
@@ -249,7 +267,7 @@ module brainstem_dio #(
         .FIXED_CFG  (FIXED_CFG)
     ) u_cfg (
         .clk         (clk),
-        .rst         (rst),
+        .rst         (core_rst),
         .cfg_we_i    (cfg_we),
         .out_we_i    (out_we),
         .pin_idx_i   (wr_pin_idx),
@@ -274,7 +292,7 @@ module brainstem_dio #(
 
             bsd_trans_latch u_latch (
                 .clk      (clk),
-                .rst      (rst),
+                .rst      (core_rst),
                 .arm_i    (rearm[p] || init_arm),
                 .ena_i    (c[1]),
                 .trg_i    (c[2]),
@@ -287,7 +305,7 @@ module brainstem_dio #(
             if (TIMER_MASK[p]) begin : g_timer
                 bsd_event_timer u_timer (
                     .clk         (clk),
-                    .rst         (rst),
+                    .rst         (core_rst),
                     .tick_i      (tick),
                     .level_i     (level[p]),
                     .start_i     (timer_start[p]),
@@ -321,7 +339,7 @@ module brainstem_dio #(
 
     bsd_heartbeat #(.HB_RATE(HB_RATE)) u_hb (
         .clk           (clk),
-        .rst           (rst),
+        .rst           (core_rst),
         .tick_i        (tick),
         .answer_i      (hb_answer),
         .answer_down_i (hb_answer_down),
@@ -357,9 +375,10 @@ module brainstem_dio #(
     assign tx_data[32*SRC_HB +: 32]        = {CMD_HB, hb_type, 16'd0};
     assign hb_done                         = tx_done[SRC_HB];
 
-    bsd_tx #(.MODULE_ADDR(MODULE_ADDR), .K(K), .LONG_SRC(SRC_REPLY)) u_tx (
+    bsd_tx #(.MODULE_ADDR(MODULE_ADDR), .K(K), .LONG_SRC(SRC_REPLY), .POWERUP_SRC(SRC_REPLY)) u_tx (
         .clk           (clk),
         .rst           (rst),
+        .flush_i       (soft_rst_q),
         .req_i         (tx_req),
         .n_i           (tx_n),
         .data_i        (tx_data),
@@ -374,7 +393,7 @@ module brainstem_dio #(
 
     bsd_rflx_arb #(.NUM_PINS(NUM_PINS), .TIMER_ID_BASE(TIMER_ID_BASE)) u_rflx (
         .clk            (clk),
-        .rst            (rst),
+        .rst            (core_rst),
         .dio_req_i      (dio_rflx_req),
         .dio_id_i       (dio_rflx_id),
         .dio_val_i      (dio_rflx_val),

@@ -16,13 +16,22 @@
 // register enables (the arbiter and the source mux never wait for it; the
 // mux is driven by the staged source, a register, not by the grant). Later
 // events are always younger, so staging early never reorders packets.
+//
+// flush_i (cmdRESET) drops every packet not yet started while the sources are
+// reset around it. A packet with a byte already taken is finished, so the
+// host's framing holds, and credits nobody. One whose first byte is offered
+// but not yet taken cannot be withdrawn (AXI-Stream), but every packet starts
+// with the address, so it becomes the power-up message in place and is
+// credited to POWERUP_SRC, the source that holds that message after a reset.
 module bsd_tx #(
     parameter integer MODULE_ADDR = 2,
     parameter integer K           = 2,
-    parameter integer LONG_SRC    = -1
+    parameter integer LONG_SRC    = -1,
+    parameter integer POWERUP_SRC = -1
 ) (
     input  wire            clk,
     input  wire            rst,
+    input  wire            flush_i,
     input  wire [K-1:0]    req_i,
     input  wire [3*K-1:0]  n_i,
     input  wire [32*K-1:0] data_i,   // source s: data_i[32*s+24 +: 8] is d0
@@ -34,6 +43,8 @@ module bsd_tx #(
     input  wire            m_axis_tready,
     output wire            m_axis_tlast
 );
+    `include "bsd_protocol.vh"
+
     localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
 
     // The packet going out.
@@ -43,6 +54,7 @@ module bsd_tx #(
     reg          valid_q;
     reg  [K-1:0] cur_q;    // its source (0 when none: cur_q, next_src_q and
                            // done_q are the sources the arbiter must skip)
+    reg          first_q;  // no byte of it taken yet
     // The next packet's source.
     reg          next_valid_q;
     reg  [K-1:0] next_src_q;
@@ -51,14 +63,16 @@ module bsd_tx #(
 
     wire [K-1:0] gnt;
     wire hs    = valid_q && m_axis_tready;
-    wire load  = next_valid_q && (!valid_q || (hs && last_q));
+    wire load  = next_valid_q && !flush_i && (!valid_q || (hs && last_q));
+    // The packet offered at a flush has no byte taken: it becomes the power-up message.
+    wire swap  = flush_i && valid_q && first_q && !m_axis_tready;
     // The staging register samples the arbiter whenever it is free: its
     // enable never waits for the grant.
     wire stage = !next_valid_q || load;
 
     bsd_age_arb #(.K(K)) u_arb (
         .clk       (clk),
-        .rst       (rst),
+        .rst       (rst || flush_i),
         .req_i     (req_i),
         .exclude_i (cur_q | next_src_q | done_q),
         .gnt_o     (gnt)
@@ -89,6 +103,9 @@ module bsd_tx #(
     wire [K-1:0] done = (hs && last_q) ? cur_q : {K{1'b0}};
     assign done_o = done;
 
+    // The one-hot of POWERUP_SRC (none when it is out of range).
+    localparam [K:0] POWERUP_BIT = (POWERUP_SRC >= 0 && POWERUP_SRC < K) ? ({{K{1'b0}}, 1'b1} << POWERUP_SRC) : {(K+1){1'b0}};
+
     always @(posedge clk) begin
         if (load) begin
             buf_q   <= {ADDR_OWN, 4'd0, sel_n, sel_data, sel_long};
@@ -96,10 +113,12 @@ module bsd_tx #(
             last_q  <= 1'b0;  // a packet is at least A, N
             valid_q <= 1'b1;
             cur_q   <= next_src_q;
+            first_q <= 1'b1;
         end else if (hs) begin
             buf_q   <= {buf_q[71:0], 8'd0};
             left_q  <= left_q - 4'd1;
             last_q  <= left_q == 4'd2;
+            first_q <= 1'b0;
             if (last_q) begin
                 valid_q <= 1'b0;
                 cur_q   <= {K{1'b0}};
@@ -110,12 +129,25 @@ module bsd_tx #(
             next_valid_q <= |gnt;
         end
         done_q <= done;
+        if (flush_i) begin
+            next_src_q   <= {K{1'b0}};
+            next_valid_q <= 1'b0;
+            done_q       <= {K{1'b0}};
+            if (!swap) cur_q <= {K{1'b0}};
+        end
+        if (swap) begin
+            buf_q  <= {ADDR_OWN, MSG_N, CMD_MSG, MSG_STATE_POWER_RESET, 48'd0};
+            left_q <= 4'd4;
+            last_q <= 1'b0;
+            cur_q  <= POWERUP_BIT[K-1:0];
+        end
         if (rst) begin
             buf_q        <= 80'd0;
             left_q       <= 4'd0;
             last_q       <= 1'b0;
             valid_q      <= 1'b0;
             cur_q        <= {K{1'b0}};
+            first_q      <= 1'b0;
             next_valid_q <= 1'b0;
             next_src_q   <= {K{1'b0}};
             done_q       <= {K{1'b0}};
@@ -149,7 +181,7 @@ module bsd_tx #(
                     $fatal(1, "bsd_tx: source %0d changed its packet before done_o", c);
             end
         end
-        chk_req_q  <= rst ? {K{1'b0}} : req_i;
+        chk_req_q  <= (rst || flush_i) ? {K{1'b0}} : req_i;  // the sources are reset with a flush
         chk_done_q <= done;
         chk_n_q    <= n_i;
         chk_data_q <= data_i;

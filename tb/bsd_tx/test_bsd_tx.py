@@ -22,22 +22,27 @@ from __future__ import annotations
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
+from bsd_protocol import CMD_MSG, MSG_STATE_POWER_RESET
 from clocked_tb import ClockedTB
 from runner import hdl_params
 from suite import Suite, on
 
 SUITE = Suite(__file__, "bsd_tx", {"k2": {"MODULE_ADDR": 2, "K": 2},
-                                   "k7-a254": {"MODULE_ADDR": 254, "K": 7}}, quick=on("icarus"))
+                                   "k7-a254-pu5": {"MODULE_ADDR": 254, "K": 7, "POWERUP_SRC": 5}},
+              quick=on("icarus"))
+
+POWER_UP = (CMD_MSG, MSG_STATE_POWER_RESET)  # the data bytes of the power-up message
 
 
 class TxModel:
-    def __init__(self, addr: int, k: int) -> None:
-        self.addr, self.k = addr, k
+    def __init__(self, addr: int, k: int, powerup_src: int | None = None) -> None:
+        self.addr, self.k, self.powerup_src = addr, k, powerup_src
         self.reset()
 
     def reset(self) -> None:
         self.out: list[int] = []          # bytes of the packet going out, first on offer
         self.cur: int | None = None       # its source
+        self.first = False                # no byte of it taken yet
         self.staged: int | None = None    # the next packet's source
         self.done_prev = 0                # sources whose last byte left last clock
         self.prev_req = [0] * self.k
@@ -53,7 +58,7 @@ class TxModel:
         last = len(self.out) == 1
         hs = bool(self.out) and v["m_axis_tready"]
         o = dict(m_axis_tvalid=int(bool(self.out)),
-                 done_o=(1 << self.cur) if hs and last else 0)
+                 done_o=(1 << self.cur) if hs and last and self.cur is not None else 0)
         if self.out:
             o.update(m_axis_tdata=self.out[0], m_axis_tlast=int(last))
         return o
@@ -70,12 +75,15 @@ class TxModel:
         gnt = self.grant()
         hs = bool(self.out) and v["m_axis_tready"]
         last = len(self.out) == 1
-        load = self.staged is not None and (not self.out or (hs and last))
+        flush = bool(v.get("flush_i", 0))
+        load = self.staged is not None and not flush and (not self.out or (hs and last))
         stage = self.staged is None or load
         if load:
             self.out, self.cur = self.packet(self.addr, v, self.staged), self.staged
+            self.first = True
         elif hs:
             self.out = self.out[1:]
+            self.first = False
             if not self.out:
                 self.cur = None
         if stage:
@@ -86,17 +94,30 @@ class TxModel:
             if r and not self.prev_req[i]:
                 self.birth[i] = self.clock
             self.prev_req[i] = r
+        if flush:
+            # Every packet not started is dropped and the arbiter starts afresh; one whose
+            # first byte waits becomes the power-up message, credited to its source.
+            self.staged, self.done_prev = None, 0
+            self.prev_req = [0] * self.k
+            if self.out and self.first and not v["m_axis_tready"]:
+                self.out = [self.addr, len(POWER_UP), *POWER_UP]
+                self.cur = self.powerup_src
+            else:
+                self.cur = None
 
 
 class TxTB(ClockedTB):
-    INPUTS = dict(req_i=0, n_i=0, data_i=0, m_axis_tready=1)
+    INPUTS = dict(req_i=0, n_i=0, data_i=0, m_axis_tready=1, flush_i=0)
+    PULSES = ("flush_i",)
     OUTPUTS = ("done_o", "m_axis_tdata", "m_axis_tvalid", "m_axis_tlast")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "tx")
         p = hdl_params()
         self.addr, self.k = int(p["MODULE_ADDR"]), int(p["K"])
-        self.model = TxModel(self.addr, self.k)
+        src = int(p.get("POWERUP_SRC", -1))
+        self.powerup_src = src if 0 <= src < self.k else None
+        self.model = TxModel(self.addr, self.k, self.powerup_src)
         self.queues: list[list[tuple[int, int]]] = [[] for _ in range(self.k)]  # (n, word)
         self.req = [0] * self.k
         self.low = [1] * self.k            # clocks the request has been down
@@ -141,8 +162,23 @@ class TxTB(ClockedTB):
             self.model.edge(vals)
         for s in range(self.k):
             self.low[s] = 0 if driven[s] else self.low[s] + 1
+        if vals["flush_i"]:
+            self.sources_reset()
         await RisingEdge(self.clk)
         return out
+
+    def sources_reset(self) -> None:
+        """The sources are reset with the flush (cmdRESET): every request drops, and the
+        power-up source holds the power-up message."""
+        self.req = [0] * self.k
+        self.queues = [[] for _ in range(self.k)]
+        self.waiting = []
+        self.sent = []        # packet order is checked from the flush on
+        if self.powerup_src is not None:
+            s = self.powerup_src
+            self.req[s] = 1
+            self.n_word[s] = (len(POWER_UP), POWER_UP[0] << 24 | POWER_UP[1] << 16)
+            self.waiting.append((self.clocks, s, [self.addr, len(POWER_UP), *POWER_UP]))
 
     def observe(self, v: dict, out: dict) -> None:
         p = self.prev_out
@@ -173,7 +209,7 @@ class TxTB(ClockedTB):
 
     async def drain(self, limit: int = 500) -> None:
         for _ in range(limit):
-            if not any(self.req) and not any(self.queues):
+            if not any(self.req) and not any(self.queues) and not self.model.out:
                 break
             await self.step(m_axis_tready=1)
         await self.step(m_axis_tready=1)
@@ -263,6 +299,44 @@ async def test_random_vs_model(dut) -> None:
     await tb.drain(2000)
     tb.check_order()
     assert len(tb.sent) > 200
+
+
+@SUITE.test()
+async def test_flush(dut) -> None:
+    """flush_i (cmdRESET) with random traffic and back-pressure, against the model on every
+    clock: a packet with a byte taken is finished and credits nobody, one whose first byte
+    waits becomes the power-up message in place, nothing staged leaves, and the power-up
+    message is the next packet out. Every case (idle, first byte waiting, mid-packet, last
+    byte) is reached."""
+    tb = TxTB(dut)
+    rng = tb.rng
+    await tb.reset()
+    seen: set[str] = set()
+    for _ in range(400):
+        for s in range(tb.k):
+            if rng.random() < 0.5:
+                tb.add(s, rng.randrange(5), rng.randrange(1 << 32))
+        for _ in range(rng.randrange(3, 15)):
+            await tb.step(m_axis_tready=int(rng.random() < 0.6))
+        ready = int(rng.random() < 0.5)
+        out_before = list(tb.model.out)
+        first = tb.model.first
+        n_packets = len(tb.out_packets)
+        await tb.step(m_axis_tready=ready, flush_i=1)
+        case = ("idle" if not out_before else "waiting" if first and not ready
+                else "last" if len(out_before) == 1 and ready else "mid")
+        seen.add(case)
+        await tb.drain()
+        after = tb.out_packets[n_packets:]
+        power_up = [tb.addr, len(POWER_UP), *POWER_UP]
+        if case in ("mid", "last"):
+            # The packet finishes as it was, and nothing else leaves before the power-up
+            # message (or nothing at all without a power-up source).
+            assert after and after[0][-len(out_before):] == out_before, (case, after, out_before, ready, first)
+            after = after[1:]
+        assert after == ([power_up] if tb.powerup_src is not None or case == "waiting" else []), \
+            (case, after)
+    assert seen == {"idle", "waiting", "mid", "last"}, seen
 
 
 @pytest.mark.parametrize("case", SUITE.cases())
