@@ -84,7 +84,7 @@ $(SIM_BIN): $(SIM_DEPS) | $(STAMP)
 
 sim-build: $(SIM_BIN)
 
-# The runner's path for these parameters (tb/test_session.py asks for it).
+# The runner's path for these parameters (tb/session/test_session.py asks for it).
 sim-path:
 	@echo $(SIM_BIN)
 
@@ -154,7 +154,7 @@ virtual: $(VIRTUAL_BIN)
 	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port $(if $(WAVES),--wave $(VIRTUAL_WAVE))
 
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
-# the files); protocol-check only reports stale ones (tb/test_protocol.py runs it too).
+# the files); protocol-check only reports stale ones (tb/protocol/test_protocol.py runs it too).
 protocol:
 	@$(PYTHON) tools/gen_protocol.py
 
