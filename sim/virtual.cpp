@@ -24,8 +24,10 @@
 // clock (steady_clock) since start; when ahead it sleeps in ppoll on the pty and stdin.
 // Once a second it checks: when it is behind by more than 50 ms and ran slower than real
 // time over that second, it prints "behind real time: x0.43" (simulated seconds per wall
-// second over that second) on stderr. A lag beyond 100 ms is forgiven (the origin moves), so
-// that a stall is not followed by a long sprint.
+// second over that second) on stderr, with ", stalled 0.153 s" when the loop did not run for
+// more than 50 ms in that second (then the line comes even if the lag was made up). A lag
+// beyond 100 ms is forgiven (the origin moves), so that a stall is not followed by a long
+// sprint.
 //
 // Standard input takes the session-script lines of make sim (sim/script.h): pin N high|low,
 // pin N pulse TIME, wait TIME, reset; and noise BYTES (sent to the host at the next packet
@@ -723,6 +725,7 @@ std::string run(Board& b, Port& port) {
     std::vector<uint8_t> in;
     double origin = wall() - b.now();  // wall time of simulated time 0
     double window_wall = wall();
+    double last_turn = window_wall, stall = 0;  // the longest time between two turns of this loop
     uint64_t window_cycles = b.cycles();
     double lost_report = 0;
     size_t lost = 0;
@@ -798,14 +801,23 @@ std::string run(Board& b, Port& port) {
         b.idle_checks();
         // Pacing: never past the wall clock.
         // Once a second: behind by more than kBehindS now, and slower than real time over
-        // that second? (A short stall that has been made up is not worth a line.)
+        // that second? Or did this loop not run for more than kBehindS (the machine is busy)?
+        // A stall that has been made up since is still worth a line: a host may have seen the
+        // bytes of a packet stop for that long (the host library drops a partial packet after
+        // 0.1 s without a byte).
         const double t = wall();
+        if (t - last_turn > stall) stall = t - last_turn;
+        last_turn = t;
         double lag = (t - origin) - b.now();
         if (t - window_wall >= 1.0) {
             const double ratio = (b.cycles() - window_cycles) / double(kClkHz) / (t - window_wall);
-            if (lag > kBehindS && ratio < 1.0) std::fprintf(stderr, "behind real time: x%.2f\n", ratio);
+            if ((lag > kBehindS && ratio < 1.0) || stall > kBehindS) {
+                if (stall > kBehindS) std::fprintf(stderr, "behind real time: x%.2f, stalled %.3f s\n", ratio, stall);
+                else std::fprintf(stderr, "behind real time: x%.2f\n", ratio);
+            }
             window_wall = t;
             window_cycles = b.cycles();
+            stall = 0;
         }
         if (lag > kMaxLagS) {
             origin += lag - kMaxLagS;
