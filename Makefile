@@ -155,6 +155,17 @@ virtual-path:
 virtual: $(VIRTUAL_BIN)
 	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port$(if $(WAVES), --wave $(VIRTUAL_WAVE))$(if $(BER), --ber $(BER))$(if $(SEED), --seed $(SEED))
 
+# The noise soak (sim/soak.py): the host library against the virtual module (2 MHz, 115200 baud,
+# heartbeat on; its own build) with line noise: a quiet baseline, random calls at BER 1e-4 and
+# 1e-3 against a shadow model, then the noise off and a functional check; fails on a call past
+# its bound, an exception outside BrainStemError, a dead reader thread, a link not answering
+# within 2 s, or a failed check. -> the `soak` region of docs/benchmarks.md. A few minutes.
+# SOAK_ARGS: e.g. "--seed 7 --calls 500" (sim/soak.py --help).
+SOAK_ARGS ?=
+.PHONY: soak
+soak: $(STAMP)
+	@$(VPY) sim/soak.py --write docs/benchmarks.md $(SOAK_ARGS)
+
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
 # the files); protocol-check only reports stale ones (tb/test_protocol.py runs it too).
 protocol:
