@@ -702,7 +702,7 @@ def main(argv: Optional[list[str]] = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seed", type=int, default=None, help="seed of the calls and the noise (default: random, printed)")
     ap.add_argument("--baseline", type=int, default=300, help="calls of the quiet baseline (default 300)")
-    ap.add_argument("--calls", type=int, default=1500, help="calls per noisy phase (default 1500)")
+    ap.add_argument("--calls", type=int, default=2000, help="calls per noisy phase (default 2000)")
     ap.add_argument("--bers", type=float, nargs="+", default=[1e-4, 1e-3], metavar="P",
                     help="the noisy phases' bit error rates (default 1e-4 1e-3)")
     ap.add_argument("--write", type=Path, metavar="FILE",
