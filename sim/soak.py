@@ -172,6 +172,7 @@ class Phase:
     over_bound: list[str] = field(default_factory=list)
     foreign: list[str] = field(default_factory=list)
     wrong: list[str] = field(default_factory=list)
+    first: dict[str, str] = field(default_factory=dict)  # an exception outcome -> its first message
     flips: tuple[int, int, int, int] = (0, 0, 0, 0)
     link: dict[str, int] = field(default_factory=dict)
     reader_alive: bool = True
@@ -232,6 +233,8 @@ class Caller:
         if took / timeout > ph.slowest[0]:
             ph.slowest = (took / timeout, took, op)
         ph.outcomes[outcome] += 1
+        if isinstance(result, BaseException) and outcome != OK:
+            ph.first.setdefault(outcome, f"{op}: {str(result).splitlines()[0] if str(result) else ''}"[:200])
         ph.by_op[op.split(" ")[0]][outcome] += 1
         return outcome, result
 
@@ -620,6 +623,16 @@ def report(res: Result) -> str:
         lines.append(f"- {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
     for r in res.retried:
         lines.append(f"- run again, having failed while the module was behind real time: {r}")
+    first = {}
+    for p in res.phases:
+        for k, msg in p.first.items():
+            first.setdefault(k, f"{p.name}: {msg}")
+    if first:
+        lines.append("")
+        lines.append("Each kind of exception, its first occurrence:")
+        lines.append("")
+        for k in sorted(first):
+            lines.append(f"- {k}: {first[k]}")
     wrong = [(p.name, w) for p in res.phases for w in p.wrong]
     if wrong:
         lines.append("")
