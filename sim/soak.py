@@ -33,7 +33,8 @@ Otherwise it exits 1 and says which criterion failed.
     .venv/bin/python sim/soak.py --seed 7 --write docs/benchmarks.md
 
 The virtual module is `make virtual`'s build at 2 MHz, 115200 baud, HB_RATE 10 (the build the
-tests use: it keeps real time on a loaded 2-core machine); `--seed` seeds both the calls and
+tests use: it keeps real time on a loaded 2-core machine; `--baud 9600` for a real module's
+rate, where every packet takes 12 times as long on the line); `--seed` seeds both the calls and
 the line noise, so a run repeats as far as the wall clock lets it (the noise is the same bits;
 which call they hit depends on timing). `--write FILE` fills FILE's region
 `<!-- generated:soak begin -->` .. `end` (tools/docregions.py) with the table, the date, the
@@ -68,7 +69,11 @@ import brainstem_dio  # noqa: E402
 from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError  # noqa: E402
 
 REGION = "soak"
-MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]
+BAUD = 115200
+
+
+def make_vars(baud: int) -> list[str]:
+    return ["CLK_HZ=2000000", f"BAUD={baud}", "HB_RATE=10"]
 A = 2
 NUM_PINS = 5
 TIMER_PINS = (1, 2, 3, 4)  # TIMER_MASK 30
@@ -653,9 +658,9 @@ TRANSCRIPT = ROOT / "sim" / "build" / "soak" / "transcript.txt"
 
 
 def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None],
-             transcript: Optional[Path] = TRANSCRIPT) -> Result:
+             transcript: Optional[Path] = TRANSCRIPT, baud: int = BAUD) -> Result:
     """The whole soak; the virtual module's transcript (stdout and stderr) goes to `transcript`."""
-    binary = make_built("virtual-build", "virtual-path", MAKE_VARS)
+    binary = make_built("virtual-build", "virtual-path", make_vars(baud))
     with tempfile.TemporaryDirectory(prefix="bsd-soak-") as tmp:
         v = Virtual(binary, Path(tmp) / "port", seed)
         try:
@@ -718,6 +723,8 @@ def main(argv: Optional[list[str]] = None) -> int:
     ap.add_argument("--calls", type=int, default=2000, help="calls per noisy phase (default 2000)")
     ap.add_argument("--bers", type=float, nargs="+", default=[1e-4, 1e-3], metavar="P",
                     help="the noisy phases' bit error rates (default 1e-4 1e-3)")
+    ap.add_argument("--baud", type=int, default=BAUD, choices=[9600, 19200, 38400, 57600, 115200],
+                    help=f"the virtual module's line rate (default {BAUD})")
     ap.add_argument("--write", type=Path, metavar="FILE",
                     help=f"fill the region `generated:{REGION}` of FILE with the table")
     args = ap.parse_args(argv)
@@ -737,7 +744,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     try:
-        res = run_soak(seed=seed, baseline=args.baseline, calls=args.calls, bers=args.bers,
+        res = run_soak(seed=seed, baseline=args.baseline, calls=args.calls, bers=args.bers, baud=args.baud,
                        log=lambda s: print(s, file=sys.stderr, flush=True))
     except (SoakError, AssertionError, subprocess.CalledProcessError, OSError) as e:
         print(f"sim/soak.py: error: the soak could not run: {e}", file=sys.stderr)
@@ -746,7 +753,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     print(text)
     if args.write is not None:
         cmd = shlex.join(["sim/soak.py", *argv] + ([] if args.seed is not None else ["--seed", str(seed)]))
-        body = (f"_Measured {date} by `{cmd}` (seed {seed}; the virtual module at 2 MHz, 115200 baud, "
+        body = (f"_Measured {date} by `{cmd}` (seed {seed}; the virtual module at 2 MHz, {args.baud} baud, "
                 f"HB_RATE 10; the library's default timeout, {CALL_TIMEOUT} s)._\n\n{text}")
         changed = fill_file(args.write, {REGION: body})
         print(f"{'wrote' if changed else 'unchanged:'} {args.write} ({REGION})", file=sys.stderr)
