@@ -15,8 +15,11 @@ Phases, each with its own virtual module line noise (`ber P` on its standard inp
    predicts), a wrong value, each exception class (module errors by name and code), and each
    call's duration against its timeout. What a call did when it failed is unknown, so the
    shadow forgets it until a query or read tells it again;
-3. noise off (`ber 0`), and a full functional check: the link answering within 2 s, every
-   configuration of every pin written and read back, both timer modes, the module's timer
+3. noise off (`ber 0`), and a full functional check: the link answering within 2 s; time_pin
+   on the pulse trains, first, while whatever the noise left in the library is still there (a
+   result there mostly arrives before its start's confirmation, so a lost start must not make
+   the next measurement's result go astray); every configuration of every pin written and read
+   back, both timer modes on pulses sent after the start's confirmation, the module's timer
    timeout, pipelined `wait=False` writes (their pads in the module's transcript), the
    heartbeat's link_up back up, and no stray packet.
 
@@ -551,12 +554,14 @@ class Checks:
         seen0 = len(self.s.framing)
         self.m.drain()  # what the noise left in the queue
         unsolicited0 = self.m.link.stats.unsolicited
+        # First, while whatever the noise left in the library is still there: a measurement
+        # whose start was lost must not take the result of the next one on its pin.
+        self.check("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
+                   "before the start's confirmation)", self.time_pin_on_trains)
         self.check("every pin's configuration written and read back (5 x 32)", self.every_configuration)
         self.check("width timer on pins 1-4 (800 us pulse = 500 ticks)", self.width_timers)
         self.check("edge timer on pin 3 (20 ms)", self.edge_timer)
         self.check("the module's timer timeout on pin 2 (result 0)", self.timer_timeout)
-        self.check("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
-                   "before the start's confirmation)", self.time_pin_on_trains)
         self.check("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes)
         self.check("the heartbeat's link_up back up", self.heartbeat_link_up)
 
