@@ -116,7 +116,7 @@ sim: $(SIM_BIN)
 # make virtual [CLK_HZ=hz] [BAUD=9600] [HB_RATE=10] [the sim's other parameters] [WAVES=1]:
 # brainstem_dio_uart (the board's RTL) behind a pseudo-terminal, in step with the wall clock
 # (sim/virtual.cpp). It prints `port: /dev/pts/N` and keeps the symlink sim/build/virtual/port
-# to it while it runs; stdin takes pin/wait/reset/noise/quit lines, stdout is the transcript.
+# to it while it runs; stdin takes pin/wait/reset/noise/ber/stats/quit lines, stdout is the transcript.
 # The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
 # CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
 # sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
@@ -150,8 +150,21 @@ virtual-build: $(VIRTUAL_BIN)
 virtual-path:
 	@echo $(VIRTUAL_BIN)
 
+# BER=P: line noise, each bit on both lines flipped with probability P (stdin: ber P, stats);
+# SEED=N: the noise's seed (printed at start), to repeat a run.
 virtual: $(VIRTUAL_BIN)
-	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port $(if $(WAVES),--wave $(VIRTUAL_WAVE))
+	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port$(if $(WAVES), --wave $(VIRTUAL_WAVE))$(if $(BER), --ber $(BER))$(if $(SEED), --seed $(SEED))
+
+# The noise soak (sim/soak.py): the host library against the virtual module (2 MHz, 115200 baud,
+# heartbeat on; its own build) with line noise: a quiet baseline, random calls at BER 1e-4 and
+# 1e-3 against a shadow model, then the noise off and a functional check; fails on a call past
+# its bound, an exception outside BrainStemError, a dead reader thread, a link not answering
+# within 2 s, or a failed check. -> the `soak` region of docs/benchmarks.md. A few minutes.
+# SOAK_ARGS: e.g. "--seed 7 --calls 500" (sim/soak.py --help).
+SOAK_ARGS ?=
+.PHONY: soak
+soak: $(STAMP)
+	@$(VPY) sim/soak.py --write docs/benchmarks.md $(SOAK_ARGS)
 
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
 # the files); protocol-check only reports stale ones (tb/protocol/test_protocol.py runs it too).
