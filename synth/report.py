@@ -47,6 +47,7 @@ DIFFERENCES = (("core5", "uart5", "the serial link: UART, FIFO, register slices,
                ("icebreaker", "icebreaker24", "19 more pins and 20 more timers on the board"))
 CONSUMERS = "core16t"        # the design whose modules are counted apart
 SCALING = {16: ("core16", "core16t"), 64: ("core64", "core64t16", "core64t")}   # the plot's points
+TARGET_64X64 = 3300          # LUT4 of the core at 64 pins x 64 timers (the targets region and the plot)
 ICE40 = flow.designs_of("ice40")
 # Per family: the GP 1.0 core, the 16-pin cores of the slopes, and the board top.
 FAMILY_DESIGNS = {"ice40": ("core5", "core16", "core16t", "icebreaker"),
@@ -239,7 +240,7 @@ def region_targets(meas) -> str:
 
     cell = lambda n, k: meas[n].cells[k] if meas.get(n) else None  # noqa: E731
     row("GP 1.0 core (`core5`), LUT4", "≤ 700", cell("core5", "lut4"), 700)
-    for key, name, limit in (("lut4", "LUT4", 3300), ("ff", "FF", 2400), ("ram", "SB_RAM40_4K", 18)):
+    for key, name, limit in (("lut4", "LUT4", TARGET_64X64), ("ff", "FF", 2400), ("ram", "SB_RAM40_4K", 18)):
         row(f"64 pins × 64 timers (`core64t`), {name}", f"≤ {limit}", cell("core64t", key), limit)
     for a, b, what in SLOPES:
         row(_slope_label(meas, a, b, what) + ", LUT4", "≤ 14" if what == "pins" else "≤ 30",
@@ -510,7 +511,8 @@ def plot(meas, path: Path = PLOT) -> bool:
     if lcs:
         ax.axhline(lcs, color="gray", lw=0.8, ls=":")
         ax.text(1, lcs, f" iCE40UP5K: {lcs} logic cells", va="bottom", fontsize=8, color="gray")
-    ax.set(xlabel="timers (a timer on each of the first N pins)", ylabel="LUT4 (yosys synth_ice40, core alone)",
+    ax.plot([64], [TARGET_64X64], "x", color="black", label=f"target at 64 × 64: ≤ {TARGET_64X64} LUT4")
+    ax.set(xlabel="timers", ylabel="LUT4 (yosys synth_ice40, core alone)",
            title="brainstem_dio: LUT4 against timer count", xlim=(0, 68))
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
@@ -518,6 +520,8 @@ def plot(meas, path: Path = PLOT) -> bool:
     fig.tight_layout()
     fig.savefig(path, metadata={"Date": None})
     plt.close(fig)
+    head, _, rest = path.read_text().partition("\n")    # the XML declaration stays first
+    path.write_text(f"{head}\n<!-- SPDX-License-Identifier: Apache-2.0 -->\n{rest}")
     return True
 
 
