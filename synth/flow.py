@@ -243,7 +243,7 @@ DESIGNS: tuple[Design, ...] = (
     _core(16, (1 << 16) - 1, placed_top=HARNESS_TOP, place_if_full=True, hierarchy=True),
     _core(64, 0b11110, placed_top=HARNESS_TOP),
     _core(64, (1 << 16) - 1, unplaced_why="synthesized for the slopes"),
-    _core(64, (1 << 64) - 1, unplaced_why=f"placed with the serial link as `{SERIAL_TOP}`"),
+    _core(64, (1 << 64) - 1, unplaced_why="placed with the serial link as `uart64t`"),
     Design(name="uart5", title=f"{UART_TOP} (core + UART + FIFO + merge), 5 pins",
            counted_top=UART_TOP, params={"CLK_HZ": str(BOARD_HZ)}, pins=5, timers=4,
            unplaced_why="placed inside the board top"),
