@@ -21,16 +21,16 @@ import json
 import sys
 import tomllib
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
-from docregions import RegionError, fill_file  # noqa: E402
-from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key  # noqa: E402
+from docregions import RegionError, fill_file
+from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key
 
 DEFAULT_RULES = ROOT / "tools" / "fcov_unreachable.toml"
 DEFAULT_DOC = ROOT / "docs" / "coverage.md"
@@ -220,8 +220,8 @@ def failed(summary: Sequence[PointSummary]) -> bool:
 
 def render(summary: Sequence[PointSummary], runs: Runs, max_unhit: int = 200) -> str:
     lines = [
-        f"Merged from {runs.files} simulator runs ({len(runs.tests)} tests; "
-        f"{', '.join(sorted(runs.sims)) or 'no simulator'}).",
+        (f"Merged from {runs.files} simulator runs ({len(runs.tests)} tests; "
+        f"{', '.join(sorted(runs.sims)) or 'no simulator'})."),
         "",
         "| coverpoint | axes | bins | unreachable | reachable | reachable hit | unhit |",
         "|---|---|---:|---:|---:|---:|---:|",

@@ -3,12 +3,12 @@
 
 from __future__ import annotations
 
-from typing import Callable, Iterator
+from collections.abc import Callable, Iterator
 
 import pytest
+from host_fake import FakeModule, serial_pair
 
 import brainstem_dio
-from host_fake import FakeModule, serial_pair
 
 
 @pytest.fixture
@@ -23,10 +23,9 @@ def rig() -> Iterator[Callable[..., tuple[brainstem_dio.Module, FakeModule]]]:
         mod_opts = {k[4:]: v for k, v in options.items() if k.startswith("mod_")}
         fake_opts = {k: v for k, v in options.items() if not k.startswith(("link_", "mod_"))}
         host, dev = serial_pair()
-        fake = FakeModule(dev, **fake_opts)  # type: ignore[arg-type]
-        link = brainstem_dio.Link(host, **link_opts)  # type: ignore[arg-type]
-        m = link.module(fake.addr, **mod_opts)
-        m._owns_link = True
+        fake = FakeModule(dev, **fake_opts)
+        link = brainstem_dio.Link(host, **link_opts)
+        m = brainstem_dio.Module(link, fake.addr, owns_link=True, **mod_opts)
         fake.start()
         made.append((m, fake))
         return m, fake

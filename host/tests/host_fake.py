@@ -8,7 +8,7 @@ import select
 import socket
 import threading
 import time
-from typing import Callable, Optional
+from collections.abc import Callable
 
 from brainstem_dio import protocol as P
 
@@ -22,9 +22,9 @@ class PipeEnd:
 
     def __init__(self, name: str) -> None:
         self.name = name
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
-        self.peer: Optional[PipeEnd] = None
+        self.peer: PipeEnd | None = None
         self._buf = bytearray()
         self._cond = threading.Condition()
         self.written = bytearray()  # everything this end wrote
@@ -40,7 +40,7 @@ class PipeEnd:
 
     def read(self, size: int = 1) -> bytes:
         with self._cond:
-            peer_gone = lambda: self.peer is None or not self.peer.is_open  # noqa: E731
+            peer_gone = lambda: self.peer is None or not self.peer.is_open
             self._cond.wait_for(lambda: self._buf or not self.is_open or peer_gone(), self.timeout)
             if not self.is_open:
                 raise PortClosed(f"{self.name}: closed")
@@ -78,7 +78,7 @@ class SocketEnd:
 
     def __init__(self, sock: socket.socket) -> None:
         self.sock = sock
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
         self.name = "socket"
 
@@ -136,10 +136,10 @@ class FakeModule:
         addr: int = 2,
         num_pins: int = 5,
         timer_mask: int = 0b11110,
-        fixed: Optional[dict[int, int]] = None,
+        fixed: dict[int, int] | None = None,
         pin_id_base: int = 5,
         timer_id_base: int = 10,
-        rx_timeout: Optional[float] = 0.0256,
+        rx_timeout: float | None = 0.0256,
         power_up: bool = True,
         levels: int = 0,
     ) -> None:
@@ -156,13 +156,13 @@ class FakeModule:
         self.cfg = [(self.fixed[p] & 0x1F) if p in self.fixed else P.DIGCFG_RESET for p in range(num_pins)]
         self.out_latch = [0] * num_pins
         self.busy: set[int] = set()
-        self.timer_results: dict[int, Optional[int]] = {}
+        self.timer_results: dict[int, int | None] = {}
         self.timer_delay = 0.005
         self.instant_timers = False
         self.timer_timeout_s = P.TIMER_TIMEOUT_S
         self.reply_delay = 0.0
         self.mute = False
-        self.on_packet: Optional[Callable[[int, bytes], bool]] = None
+        self.on_packet: Callable[[int, bytes], bool] | None = None
         self.received: list[tuple[int, bytes]] = []  # host packets, whole
         self.hb_answers: list[int] = []
         self.probes = 0
@@ -326,7 +326,7 @@ class FakeModule:
     def _is_input(self, pin: int) -> bool:
         return bool(self.cfg[pin] & P.DIGCFG_IODIR)
 
-    def _dig_cfg(self, d: bytes) -> Optional[int]:
+    def _dig_cfg(self, d: bytes) -> int | None:
         pin = d[1]
         if pin >= self.num_pins:
             return P.MSG_CMD_INDEX_ERR
@@ -339,7 +339,7 @@ class FakeModule:
         self.cfg[pin] = d[2] & P.DIGCFG_STORED
         return None
 
-    def _dig_io(self, d: bytes) -> Optional[int]:
+    def _dig_io(self, d: bytes) -> int | None:
         if len(d) == 2:
             pin = d[1] & P.DEVCODE_PIN
             if pin >= self.num_pins or not self._is_input(pin):
@@ -353,10 +353,10 @@ class FakeModule:
         self.out_latch[pin] = int(d[2] != 0)
         return None
 
-    def _dig_rst(self, d: bytes) -> Optional[int]:
+    def _dig_rst(self, d: bytes) -> int | None:
         return P.MSG_CMD_INDEX_ERR if d[1] >= self.num_pins else None
 
-    def _ptime_rd(self, d: bytes) -> Optional[int]:
+    def _ptime_rd(self, d: bytes) -> int | None:
         devcode = d[1]
         pin = devcode & P.DEVCODE_PIN
         if pin >= self.num_pins or not self.timer_mask >> pin & 1 or not self._is_input(pin):
@@ -391,7 +391,7 @@ class FakeServer:
     """A FakeModule behind a TCP socket on 127.0.0.1 (for `socket://` URLs): serves one
     connection at a time, a fresh fake module for each."""
 
-    def __init__(self, setup: Optional[Callable[[FakeModule], None]] = None, **fake_options) -> None:
+    def __init__(self, setup: Callable[[FakeModule], None] | None = None, **fake_options) -> None:
         self._listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         self._listener.bind(("127.0.0.1", 0))
@@ -410,7 +410,7 @@ class FakeServer:
         while not self._stop.is_set():
             try:
                 conn, _ = self._listener.accept()
-            except (socket.timeout, OSError):
+            except (TimeoutError, OSError):
                 continue
             conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             fake = FakeModule(SocketEnd(conn), **self._options)
@@ -433,7 +433,7 @@ class FdEnd:
 
     def __init__(self, fd: int) -> None:
         self.fd = fd
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
         self.name = "pty-master"
 

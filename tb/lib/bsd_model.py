@@ -19,13 +19,12 @@ Time only enters in three places, each made explicit so the testbench supplies i
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field, fields
-from typing import Iterable, Mapping, Sequence
 
-from runner import hdl_params
+from bsd_protocol import ADDR_RESYNC as RESYNC_ADDR
 
 # --- protocol constants (PROTOCOL.md §2, §3): generated from tools/protocol.toml ----------
-
 # Re-exported: the tests import them from here.
 from bsd_protocol import (
     CMD_DEBUG,
@@ -50,22 +49,22 @@ from bsd_protocol import (
     DIGCFG_TMODE,
     DIGCFG_TRG,
     DIGCFG_TSTATE,
+    HB_UNIT_TICKS,
+    HB_UP,
     MSG_CMD_INDEX_ERR,
     MSG_CMD_INVALID,
     MSG_CMD_TOO_LONG,
     MSG_CMD_TOO_SHORT,
     MSG_CONFIG_ERR,
     MSG_SERIAL_ERROR,
-    MSG_STATE_POWER_RESET,
     MSG_TMR_CONFLICT,
     TICK_HZ,
     TIMER_MAX_TICKS,
 )
-from bsd_protocol import ADDR_RESYNC as RESYNC_ADDR
 from bsd_protocol import HB_ANSWER_OFFSET as HB_ANSWER  # the host answers type t with t + HB_ANSWER
-from bsd_protocol import HB_DOWN, HB_UNIT_TICKS, HB_UP
 from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_STATE_POWER_RESET as MSG_POWER_RESET
+from runner import hdl_params
 
 # Longest form of each host command the model executes, counting the command byte (longer is
 # cmdTooLong). cmdHB is consumed apart; cmdDEBUG (any N from 1 to 8) is echoed back whole.

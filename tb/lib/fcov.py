@@ -32,13 +32,15 @@ This module imports nothing of cocotb at load time, so the report tool can read 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
 from collections import Counter
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from bsd_model import Model, Output
@@ -125,7 +127,7 @@ def enabled() -> bool:
 
 def _current_test() -> str:
     try:
-        from cocotb import regression  # noqa: PLC0415
+        from cocotb import regression
 
         return str(regression._manager_inst._test.name)
     except Exception:  # noqa: BLE001 - a name for the file only
@@ -159,11 +161,11 @@ def _register_writer(test: str, sim: str, params: str) -> None:
         write_hits(_HITS, directory, _current_test() if test == "unknown" else test, sim, params)
 
     try:
-        import cocotb._shutdown as shutdown  # noqa: PLC0415 - runs before the simulator exits
+        import cocotb._shutdown as shutdown
 
         shutdown.register(write)
     except ImportError:  # pragma: no cover
-        import atexit  # noqa: PLC0415
+        import atexit
 
         atexit.register(write)
 
@@ -212,12 +214,10 @@ class Sampler:
         self._timer_start: dict[int, float] = {}
         self._in_done = False
         sim = "unknown"
-        try:
-            import cocotb  # noqa: PLC0415
+        with contextlib.suppress(Exception):  # outside a simulation: the name stays unknown
+            import cocotb
 
             sim = str(cocotb.SIM_NAME).split()[0].lower()
-        except Exception:  # noqa: BLE001
-            pass
         _register_writer(_current_test(), sim, self.p.to_json())
 
     # ------------------------------------------------------------- attaching to a model
@@ -473,7 +473,7 @@ class Sampler:
                 continue
             t = st.t1
 
-            def waiting(kind: str, slack: float = 0.0) -> bool:
+            def waiting(kind: str, slack: float = 0.0, t: float = t) -> bool:
                 return any(v.kind == kind and v.ready is not None and v.ready + slack < t <= v.t_first
                            for v in verified)
 
