@@ -1,9 +1,16 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Fixtures of the host library's unit tests: a fake module on an in-memory line."""
+"""Fixtures of the host library's unit tests: a fake module on an in-memory line.
+
+The fake module is the testbenches' model of the core (tb/lib/bsd_model.py): these tests run
+from the repository, so tb/lib goes on the import path here (it is not part of the library)."""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Iterator
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tb" / "lib"))
 
 import pytest
 from host_fake import FakeModule, serial_pair
