@@ -449,6 +449,14 @@ class TB:
         """Wait until `n` packets have arrived that new_packets() has not returned yet."""
         return await self.sink.wait_count(self._n_pkt + n, timeout_s)
 
+    def peek_packets(self) -> list[RxPacket]:
+        """The packets new_packets() would return, left for it."""
+        return self.packets[self._n_pkt:]
+
+    def peek_rflx(self) -> list[tuple[float, int, int]]:
+        """The strobes new_rflx() would return, left for it."""
+        return self.rflx[self._n_rflx:]
+
     def new_packets(self) -> list[RxPacket]:
         pk = self.packets[self._n_pkt:]
         self._n_pkt = len(self.packets)

@@ -78,12 +78,12 @@ def timer_value(tb: TB, m: Model, pin: int) -> int | None:
     run = m.timer_run(pin)
     tid = P.timer_id(pin)
     if run.host:
-        for pk in tb.packets[tb._n_pkt:]:
+        for pk in tb.peek_packets():
             d = pk.data
             if len(d) == 6 and d[2] == CMD_DEV_VAL and d[3] == tid:
                 return d[4] << 8 | d[5]
     if run.rflx:
-        for _, i, v in tb.rflx[tb._n_rflx:]:
+        for _, i, v in tb.peek_rflx():
             if i == tid:
                 return v
     return None
