@@ -26,6 +26,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+# fcov's protocol numbers come from the host library (through tb/lib/bsd_protocol.py): this
+# tool also runs outside the venv (make testplan).
+sys.path.insert(0, str(ROOT / "host"))
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
