@@ -707,7 +707,8 @@ def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float],
             phase = Phase(name, ber)
             soak.random_calls(phase, n)
             soak.trains.wait_out()
-            phase.flips = tuple(a - b for a, b in zip(v.stats(), flips0))  # type: ignore[assignment]
+            now = v.stats()
+            phase.flips = (now[0] - flips0[0], now[1] - flips0[1], now[2] - flips0[2], now[3] - flips0[3])
             phase.link = {k: val - link0[k] for k, val in link_counts(m).items()}
             phase.reader_alive = reader_alive()
             phases.append(phase)

@@ -109,9 +109,10 @@ def merge(docs: Sequence[tuple[str, Mapping[str, object]]]) -> Runs:
     """Merge the decoded JSON documents [(where, doc)] of several runs."""
     runs = Runs({name: Counter() for name in COVERPOINTS})
     for where, doc in docs:
-        if not isinstance(doc, Mapping) or doc.get("format") != FORMAT or not isinstance(doc.get("hits"), Mapping):
+        hits = doc.get("hits") if isinstance(doc, Mapping) else None
+        if not isinstance(hits, Mapping) or doc.get("format") != FORMAT:
             raise InputError(f"{where}: not a functional-coverage file of format {FORMAT}")
-        for name, bins in doc["hits"].items():  # type: ignore[union-attr]
+        for name, bins in hits.items():
             if name not in COVERPOINTS:
                 raise InputError(f"{where}: unknown coverpoint {name!r}")
             if not isinstance(bins, Mapping):

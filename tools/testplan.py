@@ -311,11 +311,13 @@ def formal_jobs(lay: Layout) -> list[tuple[str, str]]:
     except (OSError, SyntaxError) as e:
         raise PlanError(f"{rel}: cannot be parsed: {e}") from None
     for node in tree.body:
+        if not isinstance(node, (ast.Assign, ast.AnnAssign)) or node.value is None:
+            continue
         target = node.target if isinstance(node, ast.AnnAssign) else (
-            node.targets[0] if isinstance(node, ast.Assign) and len(node.targets) == 1 else None)
-        if isinstance(target, ast.Name) and target.id == "JOBS" and node.value is not None:  # type: ignore[union-attr]
+            node.targets[0] if len(node.targets) == 1 else None)
+        if isinstance(target, ast.Name) and target.id == "JOBS":
             try:
-                jobs = ast.literal_eval(node.value)  # type: ignore[union-attr]
+                jobs = ast.literal_eval(node.value)
                 return [(str(j[0]), str(j[1])) for j in jobs]
             except (ValueError, TypeError, IndexError):
                 break

@@ -259,7 +259,7 @@ def test_no_hang_when_the_port_goes_away(rig):
     def call() -> None:
         try:
             m.query(3)
-        except BaseException as exc:  # noqa: BLE001
+        except BaseException as exc:  # noqa: BLE001 - the thread hands whatever it raised to the test
             result.append(exc)
 
     t = threading.Thread(target=call)
@@ -361,7 +361,7 @@ def test_calls_from_several_threads_are_attributed(rig):
                     assert m.read(pin) == (0b00101 >> pin) & 1
                     with pytest.raises(brainstem_dio.CmdIndexErr):
                         m.write(pin, 1)  # an input
-            except BaseException as exc:  # noqa: BLE001
+            except BaseException as exc:  # noqa: BLE001 - the thread hands whatever it raised to the test
                 errors.append(f"thread {k} step {i}: {exc!r}")
 
     threads = [threading.Thread(target=worker, args=(k,)) for k in range(4)]

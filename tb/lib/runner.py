@@ -124,7 +124,7 @@ def test_args() -> dict[str, object]:
 
 
 # Test modules import test_args by name: not a pytest test.
-test_args.__test__ = False  # type: ignore[attr-defined]
+test_args.__test__ = False  # type: ignore[attr-defined]  # pytest reads this attribute of a function
 
 
 def build_name(parameters: Mapping[str, object]) -> str:
