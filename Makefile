@@ -70,7 +70,11 @@ $(STAMP): requirements.txt host/pyproject.toml
 
 venv: $(STAMP)
 
+# Python: ruff (ruff.toml) over host/, tb/lib/, tools/, sim/ and conftest.py, and mypy --strict on
+# the host library; then Verilator's lint of both tops.
 lint: $(STAMP)
+	@$(VENV)/bin/ruff check --quiet .
+	@$(VENV)/bin/mypy --strict host/brainstem_dio
 	@for top in brainstem_dio brainstem_dio_uart; do \
 	    $(WITH_VERILATOR) verilator --lint-only --quiet-stats -Wall -Irtl --top-module $$top $(RTL) || exit 1; \
 	done

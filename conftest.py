@@ -13,9 +13,9 @@ from pathlib import Path
 # level's tests) shadow the host library's package brainstem_dio.
 sys.path.insert(0, str(Path(__file__).resolve().parent / "tb" / "lib"))
 
-import figures  # noqa: E402
-import runner  # noqa: E402
-import suite  # noqa: E402
+import figures
+import runner
+import suite
 
 _START = time.time()
 

@@ -58,18 +58,18 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
-from docregions import RegionError, fill, fill_file  # noqa: E402
-from harness import Lines, make_built  # noqa: E402
-
-import brainstem_dio  # noqa: E402
-from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError  # noqa: E402
+import brainstem_dio
+from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError
+from docregions import RegionError, fill, fill_file
+from harness import Lines, make_built
 
 REGION = "soak"
 BAUD = 115200
@@ -209,9 +209,9 @@ class Caller:
     def __init__(self, phase: Phase) -> None:
         self.phase = phase
 
-    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], Optional[str]],
-                 *, timeout: float = CALL_TIMEOUT, expect: Optional[type] = None,
-                 either: Optional[type] = None) -> tuple[str, Any]:
+    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], str | None],
+                 *, timeout: float = CALL_TIMEOUT, expect: type | None = None,
+                 either: type | None = None) -> tuple[str, Any]:
         """`check(result)` returns None when the result is what the shadow predicts, else the
         difference; `expect` is the module error the shadow predicts instead of a result;
         `either`, a module error as good as a result (the shadow does not know)."""
@@ -253,8 +253,8 @@ class Caller:
 
 @dataclass
 class Pin:
-    cfg: Optional[int] = 0x01  # DIGCFG bits 4:0, None = unknown
-    latch: Optional[int] = 0  # the output latch
+    cfg: int | None = 0x01  # DIGCFG bits 4:0, None = unknown
+    latch: int | None = 0  # the output latch
 
 
 class Soak:
@@ -271,11 +271,11 @@ class Soak:
                 self.framing.append(f"{e.time:.3f}: {e.note} ({bytes(e.raw or b'').hex(' ')})")
         m.link.add_listener(listen)
 
-    def output(self, pin: int) -> Optional[bool]:
+    def output(self, pin: int) -> bool | None:
         cfg = self.pins[pin].cfg
         return None if cfg is None else not cfg & 0x01
 
-    def level(self, pin: int) -> Optional[int]:
+    def level(self, pin: int) -> int | None:
         """What an input reads: high (the pull-ups), either while a train runs on it."""
         if pin in PULSE_US and self.trains.running():
             return None
@@ -296,7 +296,7 @@ class Soak:
         pin = self.rng.randrange(NUM_PINS)
         want = self.pins[pin].cfg
 
-        def check(r: DigCfg) -> Optional[str]:
+        def check(r: DigCfg) -> str | None:
             return None if want is None or int(r) == want else f"pin {pin} config 0x{int(r):02X}, not 0x{want:02X}"
         outcome, r = call(f"query pin {pin}", lambda: self.m.query(pin), check)
         if isinstance(r, DigCfg):
@@ -320,7 +320,7 @@ class Soak:
         out = self.output(pin)
         want = self.level(pin)
 
-        def check(r: int) -> Optional[str]:
+        def check(r: int) -> str | None:
             if r not in (0, 1):
                 return f"pin {pin} read {r}"
             if out is None or want is None or r == want:
@@ -336,7 +336,7 @@ class Soak:
         self.trains.cover(1.0)
         want = PULSE_US[pin] * 1e-6 / TICK_S
 
-        def check(r: brainstem_dio.TimerResult) -> Optional[str]:
+        def check(r: brainstem_dio.TimerResult) -> str | None:
             return None if abs(r.ticks - want) <= TICK_SLACK else f"pin {pin} timer {r.ticks} ticks, not {want:g}"
         call(f"time_pin pin {pin}", lambda: self.m.time_pin(pin), check, timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
 
@@ -368,8 +368,8 @@ class Soak:
             good = good and outcome == OK
         self.pins[pin].latch = values[-1] if good else None
 
-    OPS = [("op_configure", 14), ("op_query", 14), ("op_write", 12), ("op_read", 14), ("op_time_pin", 12),
-           ("op_echo", 14), ("op_no_timer", 4), ("op_pipelined", 8)]
+    OPS = (("op_configure", 14), ("op_query", 14), ("op_write", 12), ("op_read", 14), ("op_time_pin", 12),
+           ("op_echo", 14), ("op_no_timer", 4), ("op_pipelined", 8))
 
     def random_calls(self, phase: Phase, calls: int) -> None:
         call = Caller(phase)
@@ -393,7 +393,7 @@ def link_counts(m: brainstem_dio.Module) -> dict[str, int]:
             "unsolicited": s.unsolicited, "heartbeat answers": s.heartbeat_answers}
 
 
-def answering_after(m: brainstem_dio.Module, since: float, limit: float = 2.0) -> Optional[float]:
+def answering_after(m: brainstem_dio.Module, since: float, limit: float = 2.0) -> float | None:
     """Seconds from `since` to the first echo that comes back, or None if none in `limit`."""
     while time.monotonic() - since < limit:
         try:
@@ -411,12 +411,12 @@ class Checks:
         self.s = soak
         self.m = soak.m
         self.v = soak.v
-        self.results: list[tuple[str, Optional[str]]] = []
+        self.results: list[tuple[str, str | None]] = []
         self.retried: list[str] = []  # checks run again: the module had fallen behind real time
         self.excused_framing = 0
         self.excused_unsolicited = 0
 
-    def check(self, name: str, fn: Callable[[], Optional[str]]) -> None:
+    def check(self, name: str, fn: Callable[[], str | None]) -> None:
         """Run a check. One that fails after the library dropped a partial packet for its
         inter-byte timeout while the virtual module fell behind real time or stalled (its
         stderr says so, at most a second later) runs once more, and the report says so: a
@@ -446,7 +446,7 @@ class Checks:
             self.m.drain()
         self.results.append((name, why))
 
-    def every_configuration(self) -> Optional[str]:
+    def every_configuration(self) -> str | None:
         bad = []
         for pin in range(NUM_PINS):
             for cfg in range(32):
@@ -457,7 +457,7 @@ class Checks:
             self.m.configure(pin)
         return "; ".join(bad[:5]) or None
 
-    def width_timers(self) -> Optional[str]:
+    def width_timers(self) -> str | None:
         bad = []
         for pin in TIMER_PINS:
             self.m.configure(pin, timer_width=True, timer_high=False)
@@ -470,7 +470,7 @@ class Checks:
             self.m.configure(pin)
         return "; ".join(bad) or None
 
-    def edge_timer(self) -> Optional[str]:
+    def edge_timer(self) -> str | None:
         pin = 3
         self.m.configure(pin, timer_high=False)  # edge timer to low
         t0 = time.monotonic()
@@ -487,13 +487,13 @@ class Checks:
             return f"edge timer: {r} after a 20 ms wait ({took:.3f} s of wall time)"
         return None
 
-    def timer_timeout(self) -> Optional[str]:
+    def timer_timeout(self) -> str | None:
         self.m.configure(2, timer_high=False)  # edge to low; pin 2's pad stays high
         r = self.m.time_pin(2)
         self.m.configure(2)
         return None if r.timed_out and r.ticks == 0 else f"timer timeout: {r}"
 
-    def time_pin_on_trains(self) -> Optional[str]:
+    def time_pin_on_trains(self) -> str | None:
         """time_pin while the trains run (a result may come before the start's confirmation)."""
         bad = []
         for pin, us in PULSE_US.items():
@@ -512,7 +512,7 @@ class Checks:
         self.s.trains.wait_out()
         return "; ".join(bad) or None
 
-    def pipelined_writes(self) -> Optional[str]:
+    def pipelined_writes(self) -> str | None:
         pins = (0, 1, 2)
         mark = len(self.v.out)  # from inputs: becoming an output is a pad line too
         for pin in pins:
@@ -536,7 +536,7 @@ class Checks:
             self.m.configure(pin)
         return "; ".join(bad) or None
 
-    def heartbeat_link_up(self) -> Optional[str]:
+    def heartbeat_link_up(self) -> str | None:
         answers = self.m.link.stats.heartbeat_answers
         pattern = r"\* link_up [01] "
         mark = len(self.v.out)
@@ -569,7 +569,7 @@ class Checks:
         self.check("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes)
         self.check("the heartbeat's link_up back up", self.heartbeat_link_up)
 
-        def no_strays() -> Optional[str]:
+        def no_strays() -> str | None:
             self.m.sync()
             stray = self.m.drain()
             framing = self.m.link.stats.framing_errors - framing0 - self.excused_framing
@@ -607,15 +607,15 @@ def table(phases: list[Phase]) -> str:
 @dataclass
 class Result:
     phases: list[Phase]
-    recovered: Optional[float]
-    checks: list[tuple[str, Optional[str]]]
+    recovered: float | None
+    checks: list[tuple[str, str | None]]
     failures: list[str]
     seed: int
     retried: list[str] = field(default_factory=list)
     behind: list[str] = field(default_factory=list)  # the virtual module's reports of lag and stalls
 
 
-def criteria(phases: list[Phase], recovered: Optional[float], checks: list[tuple[str, Optional[str]]]) -> list[str]:
+def criteria(phases: list[Phase], recovered: float | None, checks: list[tuple[str, str | None]]) -> list[str]:
     failures = []
     for p in phases:
         for s in p.over_bound[:5]:
@@ -676,7 +676,7 @@ TRANSCRIPT = ROOT / "sim" / "build" / "soak" / "transcript.txt"
 
 
 def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None],
-             transcript: Optional[Path] = TRANSCRIPT, baud: int = BAUD) -> Result:
+             transcript: Path | None = TRANSCRIPT, baud: int = BAUD) -> Result:
     """The whole soak; the virtual module's transcript (stdout and stderr) goes to `transcript`."""
     binary = make_built("virtual-build", "virtual-path", make_vars(baud))
     with tempfile.TemporaryDirectory(prefix="bsd-soak-") as tmp:
@@ -707,7 +707,8 @@ def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float],
             phase = Phase(name, ber)
             soak.random_calls(phase, n)
             soak.trains.wait_out()
-            phase.flips = tuple(a - b for a, b in zip(v.stats(), flips0))  # type: ignore[assignment]
+            now = v.stats()
+            phase.flips = (now[0] - flips0[0], now[1] - flips0[1], now[2] - flips0[2], now[3] - flips0[3])
             phase.link = {k: val - link0[k] for k, val in link_counts(m).items()}
             phase.reader_alive = reader_alive()
             phases.append(phase)
@@ -733,7 +734,7 @@ def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float],
         m.close()
 
 
-def main(argv: Optional[list[str]] = None) -> int:
+def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     ap = argparse.ArgumentParser(prog="sim/soak.py", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -761,7 +762,7 @@ def main(argv: Optional[list[str]] = None) -> int:
             print(f"sim/soak.py: error: {e}", file=sys.stderr)
             return 1
     seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     try:
         res = run_soak(seed=seed, baseline=args.baseline, calls=args.calls, bers=args.bers, baud=args.baud,
                        log=lambda s: print(s, file=sys.stderr, flush=True))

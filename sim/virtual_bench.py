@@ -33,7 +33,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
-from docregions import RegionError, fill, fill_file  # noqa: E402
+from docregions import RegionError, fill, fill_file
 
 REGION = "virtual-speed"
 BOARD_HZ = 12_000_000      # the iCEBreaker's clock: the virtual module should keep real time there
@@ -105,9 +105,9 @@ def report(runs: list[Run], markdown: bool, where: str) -> str:
     # With a core to itself the simulation keeps real time up to its slowest cycle rate.
     estimate = min(r.cycles_per_cpu_s for r in runs)
     summary = [
-        f"Highest clock that keeps real time on this machine now: {mhz(wall_best)}"
+        (f"Highest clock that keeps real time on this machine now: {mhz(wall_best)}"
         f" (with a core to itself: {mhz(cpu_best)} of those measured; about"
-        f" {estimate / 1e6:.1f} MHz from the slowest cycle rate).",
+        f" {estimate / 1e6:.1f} MHz from the slowest cycle rate)."),
     ]
     board = [r.ratio_cpu for r in runs if r.clk_hz == BOARD_HZ]
     if board:
@@ -151,7 +151,7 @@ def main(argv: list[str] | None = None) -> int:
         except (OSError, RegionError) as e:
             print(f"sim/virtual_bench.py: error: {e}", file=sys.stderr)
             return 1
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     where = machine()
     runs = []
     for clk in args.clocks:

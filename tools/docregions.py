@@ -26,7 +26,7 @@ import re
 import sys
 from pathlib import Path
 
-__all__ = ["RegionError", "regions", "fill", "fill_file"]
+__all__ = ["RegionError", "fill", "fill_file", "regions"]
 
 _NAME = r"[A-Za-z0-9][A-Za-z0-9_.-]*"
 _MARKER = re.compile(rf"<!--\s*generated:({_NAME})\s+(begin|end)\s*-->")

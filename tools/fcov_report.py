@@ -21,16 +21,19 @@ import json
 import sys
 import tomllib
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
 
 ROOT = Path(__file__).resolve().parents[1]
+# fcov's protocol numbers come from the host library (through tb/lib/bsd_protocol.py): this
+# tool also runs outside the venv (make testplan).
+sys.path.insert(0, str(ROOT / "host"))
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
-from docregions import RegionError, fill_file  # noqa: E402
-from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key  # noqa: E402
+from docregions import RegionError, fill_file
+from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key
 
 DEFAULT_RULES = ROOT / "tools" / "fcov_unreachable.toml"
 DEFAULT_DOC = ROOT / "docs" / "coverage.md"
@@ -106,9 +109,10 @@ def merge(docs: Sequence[tuple[str, Mapping[str, object]]]) -> Runs:
     """Merge the decoded JSON documents [(where, doc)] of several runs."""
     runs = Runs({name: Counter() for name in COVERPOINTS})
     for where, doc in docs:
-        if not isinstance(doc, Mapping) or doc.get("format") != FORMAT or not isinstance(doc.get("hits"), Mapping):
+        hits = doc.get("hits") if isinstance(doc, Mapping) else None
+        if not isinstance(hits, Mapping) or doc.get("format") != FORMAT:
             raise InputError(f"{where}: not a functional-coverage file of format {FORMAT}")
-        for name, bins in doc["hits"].items():  # type: ignore[union-attr]
+        for name, bins in hits.items():
             if name not in COVERPOINTS:
                 raise InputError(f"{where}: unknown coverpoint {name!r}")
             if not isinstance(bins, Mapping):
@@ -220,8 +224,8 @@ def failed(summary: Sequence[PointSummary]) -> bool:
 
 def render(summary: Sequence[PointSummary], runs: Runs, max_unhit: int = 200) -> str:
     lines = [
-        f"Merged from {runs.files} simulator runs ({len(runs.tests)} tests; "
-        f"{', '.join(sorted(runs.sims)) or 'no simulator'}).",
+        (f"Merged from {runs.files} simulator runs ({len(runs.tests)} tests; "
+        f"{', '.join(sorted(runs.sims)) or 'no simulator'})."),
         "",
         "| coverpoint | axes | bins | unreachable | reachable | reachable hit | unhit |",
         "|---|---|---:|---:|---:|---:|---:|",

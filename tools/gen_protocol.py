@@ -15,9 +15,10 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 # Every generated file (relative to the repository root) and the language it is written in.
 # This is the only list of output paths: move a file here and nowhere else.
@@ -26,7 +27,7 @@ OUTPUTS: list[tuple[str, str]] = [
     ("sim/bsd_protocol.h", "cpp"),
     ("sim/bsd_protocol.mk", "make"),
     # One Python copy, in the host library; tb/lib/bsd_protocol.py re-exports it.
-    ("host/brainstem_dio/_protocol_table.py", "python"),
+    ("host/brainstem_dio/protocol_table.py", "python"),
 ]
 
 TABLE = "tools/protocol.toml"
@@ -320,8 +321,8 @@ def _groups(p: Protocol) -> list[tuple[str, list[Const]]]:
           Const("MAX_N", p.max_n, "byte", "most data bytes in a packet; more is serialError"),
           Const("MSG_N", p.msg_n, "byte", "the N of every message")]),
         ("DIGCFG byte (§3): masks, then bit numbers.", digcfg),
-        (f"DEVCODE byte (§3): [{p.devcode_bits['HOST']}] HOST | [{p.devcode_bits['RFLX']}] RFLX"
-         f" | [{p.devcode_pin[0]}:{p.devcode_pin[1]}] pin.", devcode),
+        ((f"DEVCODE byte (§3): [{p.devcode_bits['HOST']}] HOST | [{p.devcode_bits['RFLX']}] RFLX"
+         f" | [{p.devcode_pin[0]}:{p.devcode_pin[1]}] pin."), devcode),
         ("cmdHB type bytes: the core's UP/DOWN heartbeats; the host answers with +HB_ANSWER_OFFSET.",
          [Const("HB_UP", p.hb_up, "byte"), Const("HB_DOWN", p.hb_down, "byte"),
           Const("HB_ANSWER_OFFSET", p.hb_answer_offset, "byte")]),

@@ -13,7 +13,8 @@ See host/README.md for the whole API.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Optional
+from collections.abc import Callable
+from typing import Any
 
 from . import protocol
 from .errors import (
@@ -43,7 +44,7 @@ from .module import DEFAULT_TIMEOUT, DigCfg, Module, Pending, TimerHandle, Timer
 __version__ = "0.1.0"
 
 
-def open(  # noqa: A001 - the natural name, as io.open / serial_for_url
+def open(
     port: str | SerialLike,
     addr: int = protocol.DEFAULT_MODULE_ADDR,
     *,
@@ -51,7 +52,7 @@ def open(  # noqa: A001 - the natural name, as io.open / serial_for_url
     timeout: float = DEFAULT_TIMEOUT,
     pin_id_base: int = protocol.DEFAULT_PIN_ID_BASE,
     timer_id_base: int = protocol.DEFAULT_TIMER_ID_BASE,
-    on_unsolicited: Optional[Callable[[Packet], None]] = None,
+    on_unsolicited: Callable[[Packet], None] | None = None,
     **link_options: Any,
 ) -> Module:
     """Open `port` (a device, a pty path, `socket://host:port`, `loop://`, any pyserial URL,
@@ -65,40 +66,40 @@ def open(  # noqa: A001 - the natural name, as io.open / serial_for_url
 
 
 __all__ = [
-    "open",
-    "protocol",
-    "Link",
-    "LinkEvent",
-    "LinkStats",
-    "SerialLike",
-    "Module",
-    "DigCfg",
-    "TimerResult",
-    "TimerHandle",
-    "Pending",
-    "Packet",
-    "FrameParser",
-    "FramingError",
-    "Resynced",
-    "ResyncTimeout",
-    "BrainStemError",
-    "LinkError",
-    "PortError",
-    "ResyncError",
-    "Timeout",
-    "ProtocolError",
-    "ModuleReset",
-    "ModuleError",
-    "StatePowerReset",
-    "CmdInvalid",
-    "CmdTooLong",
-    "CmdIndexErr",
-    "CmdQOverflow",
-    "TmrConflict",
-    "CmdTooShort",
-    "SerialError",
-    "ConfigErr",
-    "error_class",
     "DEFAULT_BAUDRATE",
     "DEFAULT_TIMEOUT",
+    "BrainStemError",
+    "CmdIndexErr",
+    "CmdInvalid",
+    "CmdQOverflow",
+    "CmdTooLong",
+    "CmdTooShort",
+    "ConfigErr",
+    "DigCfg",
+    "FrameParser",
+    "FramingError",
+    "Link",
+    "LinkError",
+    "LinkEvent",
+    "LinkStats",
+    "Module",
+    "ModuleError",
+    "ModuleReset",
+    "Packet",
+    "Pending",
+    "PortError",
+    "ProtocolError",
+    "ResyncError",
+    "ResyncTimeout",
+    "Resynced",
+    "SerialError",
+    "SerialLike",
+    "StatePowerReset",
+    "Timeout",
+    "TimerHandle",
+    "TimerResult",
+    "TmrConflict",
+    "error_class",
+    "open",
+    "protocol",
 ]

@@ -21,7 +21,8 @@ import shlex
 import sys
 import threading
 import time
-from typing import Callable, Optional, Sequence, TextIO
+from collections.abc import Callable, Sequence
+from typing import Any, TextIO
 
 from . import __version__
 from . import protocol as P
@@ -169,10 +170,10 @@ class Printer:
         self.verbose = verbose
         self.t0 = time.monotonic()
         self.lock = threading.Lock()
-        self.prompt: Optional[str] = None  # set while an interactive prompt is showing
+        self.prompt: str | None = None  # set while an interactive prompt is showing
         self.line_buffer: Callable[[], str] = lambda: ""
 
-    def line(self, text: str, when: Optional[float] = None) -> None:
+    def line(self, text: str, when: float | None = None) -> None:
         stamp = ((when if when is not None else time.monotonic()) - self.t0) * 1e3
         self.plain(f"[{stamp:12.3f} ms] {text}")
 
@@ -208,7 +209,7 @@ class Printer:
                 text = "resync probe"
             extra = ev.note if ev.note in ("unsolicited", "late timer result", "unsolicited timer result", "sync") else ""
             tail = "  ".join(x for x in (text, f"({extra})" if extra else "") if x)
-            self.line(f"{arrow} {str(p):<22} {tail}".rstrip(), ev.time)
+            self.line(f"{arrow} {p!s:<22} {tail}".rstrip(), ev.time)
         elif ev.kind == "framing":
             self.line(f"! framing error ({ev.note}): dropped {ev.raw.hex(' ').upper() or 'nothing'}; resynchronizing", ev.time)
         elif ev.kind == "resync":
@@ -219,13 +220,13 @@ class Printer:
             self.line(f"! port failed: {ev.note}", ev.time)
 
 
-def _open(args: argparse.Namespace, **options: object) -> Module:
+def _open(args: argparse.Namespace, **options: Any) -> Module:
     link = Link(
         args.port,
         baudrate=args.baud,
         resync_addr=args.addr,
         inter_byte_timeout=args.inter_byte_timeout or None,
-        **options,  # type: ignore[arg-type]
+        **options,
     )
     return Module(link, args.addr, timeout=args.timeout, owns_link=True)
 
@@ -492,7 +493,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
 }
 
 
-def main(argv: Optional[Sequence[str]] = None, stdin: Optional[TextIO] = None, stdout: Optional[TextIO] = None) -> int:
+def main(argv: Sequence[str] | None = None, stdin: TextIO | None = None, stdout: TextIO | None = None) -> int:
     """The console script; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)

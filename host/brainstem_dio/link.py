@@ -48,21 +48,23 @@ is what would deliver the answer).
 from __future__ import annotations
 
 import collections
+import contextlib
 import functools
 import itertools
 import logging
 import os
 import threading
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable, Deque, Iterable, Optional, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from . import protocol as P
 from .errors import LinkError, ModuleReset, PortError, ProtocolError, ResyncError, Timeout, module_error
 from .framing import FrameParser, FramingError, Packet, Resynced, ResyncTimeout
 
 if TYPE_CHECKING:
-    from .module import Module
+    from typing_extensions import Self  # typing.Self from Python 3.11 on
 
 log = logging.getLogger("brainstem_dio")
 
@@ -86,11 +88,11 @@ class SerialLike(Protocol):
     """The part of pyserial's `Serial` interface the link uses; any object with these
     members can be passed instead of a port name (the tests use an in-memory pair)."""
 
-    timeout: Optional[float]
+    timeout: float | None
 
     def read(self, size: int = 1) -> bytes: ...
 
-    def write(self, data: bytes) -> Optional[int]: ...
+    def write(self, data: bytes) -> int | None: ...
 
     @property
     def in_waiting(self) -> int: ...
@@ -113,7 +115,7 @@ class LinkEvent:
 
     kind: str
     time: float
-    packet: Optional[Packet] = None
+    packet: Packet | None = None
     raw: bytes = b""
     note: str = ""
     internal: bool = False
@@ -133,9 +135,9 @@ class LinkStats:
     resync_timeouts: int = 0
     unsolicited: int = 0
     unsolicited_dropped: int = 0
-    last_rx: Optional[float] = None
-    last_heartbeat: Optional[float] = None
-    last_framing_error: Optional[float] = None
+    last_rx: float | None = None
+    last_heartbeat: float | None = None
+    last_framing_error: float | None = None
 
 
 Action = Callable[[], None]
@@ -154,7 +156,7 @@ class Transaction:
         link: Link,
         seq: int,
         addr: int,
-        command: Optional[bytes],
+        command: bytes | None,
         kind: str,
         match: Callable[[Packet], bool],
         label: str,
@@ -171,9 +173,9 @@ class Transaction:
         self.internal = internal
         self.detached = detached
         self.packets: list[Packet] = []
-        self.error: Optional[Packet] = None
-        self.reply: Optional[Packet] = None
-        self.exc: Optional[BaseException] = None
+        self.error: Packet | None = None
+        self.reply: Packet | None = None
+        self.exc: BaseException | None = None
         self.sent_at = 0.0
         self._finished = False  # decided (under the link's lock)
         self._event = threading.Event()  # set after the listeners were told
@@ -190,7 +192,7 @@ class Transaction:
                 return
         fn(self)
 
-    def wait(self, timeout: Optional[float]) -> None:
+    def wait(self, timeout: float | None) -> None:
         """Wait for the end. Raise `Timeout` if it does not come in time; the call is then
         given up (an answer that still comes goes to the next sync, see `Module`)."""
         self.link._check_not_reader()
@@ -224,16 +226,16 @@ class TimerWaiter:
         self.addr = addr
         self.dev_id = dev_id
         self.state = "starting"
-        self.result: Optional[Packet] = None
-        self.exc: Optional[BaseException] = None
+        self.result: Packet | None = None
+        self.exc: BaseException | None = None
         self.event = threading.Event()
         self.seq = -1  # the call that carries the PTIME_RD
         self.mark = 0  # results of this timer received before the PTIME_RD was written
-        self.candidate: Optional[Packet] = None
+        self.candidate: Packet | None = None
         self.candidate_until = 0.0
 
 
-def open_serial(port: str, baudrate: int, timeout: float, write_timeout: Optional[float]) -> Any:
+def open_serial(port: str, baudrate: int, timeout: float, write_timeout: float | None) -> Any:
     """Open a pyserial port or URL raw: 8N1, no flow control (as the original library)."""
     import serial  # pyserial
 
@@ -260,7 +262,7 @@ class _Mailbox:
     """The unsolicited queue: bounded, and never blocks the reader (drops the oldest)."""
 
     def __init__(self, maxlen: int) -> None:
-        self._items: Deque[Packet] = collections.deque()
+        self._items: collections.deque[Packet] = collections.deque()
         self._maxlen = maxlen
         self._cond = threading.Condition()
         self.dropped = 0
@@ -273,7 +275,7 @@ class _Mailbox:
             self._items.append(p)
             self._cond.notify_all()
 
-    def get(self, timeout: Optional[float]) -> Optional[Packet]:
+    def get(self, timeout: float | None) -> Packet | None:
         with self._cond:
             if not self._cond.wait_for(lambda: bool(self._items), timeout):
                 return None
@@ -311,12 +313,12 @@ class Link:
         *,
         baudrate: int = DEFAULT_BAUDRATE,
         resync_addr: int = P.DEFAULT_MODULE_ADDR,
-        inter_byte_timeout: Optional[float] = DEFAULT_INTER_BYTE_TIMEOUT,
+        inter_byte_timeout: float | None = DEFAULT_INTER_BYTE_TIMEOUT,
         resync_timeout: float = DEFAULT_RESYNC_TIMEOUT,
         answer_heartbeats: bool = True,
-        on_unsolicited: Optional[Callable[[Packet], None]] = None,
+        on_unsolicited: Callable[[Packet], None] | None = None,
         unsolicited_maxlen: int = 1024,
-        write_timeout: Optional[float] = 2.0,
+        write_timeout: float | None = 2.0,
         flush_on_open: bool = True,
         poll_interval: float = 0.01,
     ) -> None:
@@ -343,7 +345,7 @@ class Link:
         # after a write, in the writing thread) may itself send.
         self._send_lock = threading.RLock()
         self._pending: list[Transaction] = []
-        self._timers: dict[tuple[int, int], Deque[TimerWaiter]] = {}
+        self._timers: dict[tuple[int, int], collections.deque[TimerWaiter]] = {}
         # Results held until a start is confirmed, numbered as counted in _timer_rx.
         self._parked: dict[tuple[int, int], list[tuple[int, Packet]]] = {}
         self._timer_rx: dict[tuple[int, int], int] = {}
@@ -352,13 +354,11 @@ class Link:
         self._tags = itertools.cycle(range(256))
         self._hold_until = 0.0
         self._closed = False
-        self._broken: Optional[BaseException] = None
+        self._broken: BaseException | None = None
         self._stop = threading.Event()
         if flush_on_open:
-            try:
+            with contextlib.suppress(Exception):  # a port that cannot flush still works
                 self._ser.reset_input_buffer()
-            except Exception:  # noqa: BLE001 - a port that cannot flush still works
-                pass
         self._reader = threading.Thread(target=self._run, name="brainstem_dio-reader", daemon=True)
         self._reader.start()
 
@@ -368,7 +368,7 @@ class Link:
         return self._parser.resync_addr
 
     @property
-    def inter_byte_timeout(self) -> Optional[float]:
+    def inter_byte_timeout(self) -> float | None:
         return self._parser.inter_byte_timeout
 
     @property
@@ -381,12 +381,6 @@ class Link:
         """True between a framing error and the probe replies that end its resync."""
         return self._parser.resyncing
 
-    def module(self, addr: int = P.DEFAULT_MODULE_ADDR, **options: Any) -> Module:
-        """A `Module` for the module at `addr` on this link (options as `Module`'s)."""
-        from .module import Module
-
-        return Module(self, addr, **options)
-
     def add_listener(self, fn: Callable[[LinkEvent], None]) -> None:
         """Call `fn(event)` for everything sent and received: in the reader thread for what
         arrives, in the writing thread for what is sent."""
@@ -398,7 +392,7 @@ class Link:
             if fn in self._listeners:
                 self._listeners.remove(fn)
 
-    def receive(self, timeout: Optional[float] = None) -> Packet:
+    def receive(self, timeout: float | None = None) -> Packet:
         """The next unsolicited packet: the power-up message, cmdQOverflow, a timer result
         nobody waits for, answers to raw `send_packet`s, anything no call claims. Raises
         `Timeout` if none comes within `timeout` seconds (None = wait for ever)."""
@@ -419,7 +413,7 @@ class Link:
         with self._send_lock:
             self._write_locked(bytes(raw), [], note="raw")
 
-    def send_packet(self, addr: int, data: bytes | Iterable[int] = b"", n: Optional[int] = None) -> None:
+    def send_packet(self, addr: int, data: bytes | Iterable[int] = b"", n: int | None = None) -> None:
         """Write one packet `addr, N, data` and return (`n` overrides the length byte). Its
         answers are not attributed: with no call in flight they go to the unsolicited queue."""
         data = bytes(data)
@@ -456,16 +450,14 @@ class Link:
         me = threading.current_thread()
         if me is not self._reader:
             self._reader.join(timeout=0.5)  # a read returns within poll_interval
-        try:
+        with contextlib.suppress(Exception):
             self._ser.close()  # also ends a read that does not honour the timeout
-        except Exception:  # noqa: BLE001
-            pass
         if me is not self._reader:
             self._reader.join(timeout=1.0)
         self._fail_all(LinkError("the link was closed"))
         self._emit(LinkEvent("closed", time.monotonic()))
 
-    def __enter__(self) -> Link:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -477,13 +469,13 @@ class Link:
         addr: int,
         wire: bytes,
         *,
-        command: Optional[bytes] = None,
-        expect: Optional[Callable[[Packet], bool]] = None,
+        command: bytes | None = None,
+        expect: Callable[[Packet], bool] | None = None,
         label: str = "",
         internal: bool = False,
         detached: bool = False,
-        timer: Optional[TimerWaiter] = None,
-        on_done: Optional[Callable[[Transaction], None]] = None,
+        timer: TimerWaiter | None = None,
+        on_done: Callable[[Transaction], None] | None = None,
         reset: bool = False,
     ) -> Transaction:
         """Register a call and write its bytes `wire` (may be empty).
@@ -559,7 +551,7 @@ class Link:
         self.put_unsolicited(unsolicited)
 
     def _confirmed(
-        self, key: tuple[int, int], dq: Deque[TimerWaiter], w: TimerWaiter, actions: list[Action], unsolicited: list[Packet]
+        self, key: tuple[int, int], dq: collections.deque[TimerWaiter], w: TimerWaiter, actions: list[Action], unsolicited: list[Packet]
     ) -> None:
         """The module confirmed `w`'s start (lock held). It ran the PTIME_RD with the timer
         free, so every earlier result of this timer had left before: the waits ahead of `w`
@@ -625,7 +617,7 @@ class Link:
         self._deliver(w, w.candidate, actions)
         return True
 
-    def wait_timer(self, w: TimerWaiter, timeout: Optional[float]) -> Packet:
+    def wait_timer(self, w: TimerWaiter, timeout: float | None) -> Packet:
         """The result packet for `w`. Raises `Timeout` if it does not come in time (a result
         that comes later goes to the unsolicited queue)."""
         self._check_not_reader()
@@ -693,7 +685,7 @@ class Link:
             time.sleep(hold)
         try:
             self._ser.write(raw)
-        except Exception as exc:  # noqa: BLE001 - any port failure
+        except Exception as exc:
             raise LinkError(f"write to {self.port_name} failed: {exc}") from exc
         now = time.monotonic()
         if not packets:
@@ -730,7 +722,7 @@ class Link:
                     if not self._stop.is_set():
                         self._port_failed(exc)
                     return
-                except Exception:  # noqa: BLE001 - a bug must not kill the reader silently
+                except Exception:
                     log.exception("brainstem_dio: error while handling %r", ev)
 
     def _port_failed(self, exc: BaseException) -> None:
@@ -761,10 +753,8 @@ class Link:
         """Flush the input (until FLUSH_QUIET of silence, FLUSH_MAX at most), then send the
         probes `AD 00 AD 00`. Every call written before the probes has lost its answer."""
         ser = self._ser
-        try:
+        with contextlib.suppress(Exception):
             ser.reset_input_buffer()
-        except Exception:  # noqa: BLE001
-            pass
         start = last = time.monotonic()
         while not self._stop.is_set():
             now = time.monotonic()
@@ -773,7 +763,7 @@ class Link:
             try:
                 waiting = ser.in_waiting
                 data = ser.read(waiting if waiting > 0 else 1)
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:
                 raise LinkError(str(exc)) from exc
             if data:
                 self.stats.bytes_in += len(data)
@@ -829,7 +819,7 @@ class Link:
         for u in unsolicited:
             self._unsolicited(u)
 
-    def _attribute(self, p: Packet, actions: list[Action], unsolicited: list[Packet]) -> Optional[Transaction]:
+    def _attribute(self, p: Packet, actions: list[Action], unsolicited: list[Packet]) -> Transaction | None:
         """Give `p` to the call it belongs to (lock held); returns that call or None."""
         calls = [t for t in self._pending if t.addr == p.addr]
         if not calls:
@@ -883,7 +873,7 @@ class Link:
         n = self._timer_rx.get(key, 0) + 1
         self._timer_rx[key] = n
         dq = self._timers.get(key)
-        starting = bool(dq) and any(o.state == "starting" for o in dq)  # type: ignore[union-attr]
+        starting = dq is not None and any(o.state == "starting" for o in dq)
         while dq:
             w = dq[0]
             if w.state == "running" and self._settle_candidate(w, time.monotonic(), actions):
@@ -951,7 +941,7 @@ class Link:
         r.reply = p
         self._complete(r, actions, unsolicited)
 
-    def _drop_timer(self, w: Optional[TimerWaiter]) -> None:
+    def _drop_timer(self, w: TimerWaiter | None) -> None:
         if w is None:
             return
         key = (w.addr, w.dev_id)
@@ -1007,7 +997,7 @@ class Link:
         if self._on_unsolicited is not None:
             try:
                 self._on_unsolicited(p)
-            except Exception:  # noqa: BLE001
+            except Exception:
                 log.exception("brainstem_dio: on_unsolicited callback failed")
             return
         self._mailbox.put(p)
@@ -1019,7 +1009,7 @@ class Link:
         for fn in listeners:
             try:
                 fn(ev)
-            except Exception:  # noqa: BLE001
+            except Exception:
                 log.exception("brainstem_dio: listener failed")
 
 

@@ -28,13 +28,17 @@ from __future__ import annotations
 import dataclasses
 import threading
 import time
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Iterable, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Union
 
 from . import protocol as P
 from .errors import ModuleReset, ProtocolError, module_error
 from .framing import Packet
 from .link import Link, TimerWaiter, Transaction, exact_match
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # typing.Self from Python 3.11 on
 
 DEFAULT_TIMEOUT = 0.5  # s for a reply (the original waits 250 ms)
 
@@ -101,7 +105,7 @@ class TimerResult:
         return self.ticks == 0
 
     @property
-    def seconds(self) -> Optional[float]:
+    def seconds(self) -> float | None:
         return None if self.ticks == 0 else self.ticks * P.TICK_S
 
     def __str__(self) -> str:
@@ -119,13 +123,13 @@ class Pending:
         """True once the module's answer (error or sync echo) is in."""
         return self._t.done()
 
-    def result(self, timeout: Optional[float] = None) -> None:
+    def result(self, timeout: float | None = None) -> None:
         """Wait for the outcome; raise the command's `ModuleError` (or a link error, or
         `Timeout` after `timeout` s, default the module's)."""
         self._module._forget(self)
         self._module._finish(self._t, timeout)
 
-    def _exception(self) -> Optional[BaseException]:
+    def _exception(self) -> BaseException | None:
         """The outcome of a finished command as an exception (None: it succeeded)."""
         t = self._t
         if t.exc is not None:
@@ -151,7 +155,7 @@ class TimerHandle:
     def done(self) -> bool:
         return self._waiter.event.is_set()
 
-    def result(self, timeout: Optional[float] = None) -> TimerResult:
+    def result(self, timeout: float | None = None) -> TimerResult:
         """The measurement's result. `timeout` (s) defaults to what is left of the module's
         timeout plus 104.9 ms from the start. A module timeout is a `TimerResult` with
         `timed_out`; `Timeout` means the result itself did not arrive."""
@@ -170,7 +174,7 @@ class Module:
     `timeout`: default seconds a call waits for its answer (0.5). `pin_id_base`,
     `timer_id_base`: the module's device ID bases (GP 1.0: 5 and 10), used to recognise
     DIG_IO read replies and timer results. Make one with `brainstem_dio.open()` or
-    `Link.module()`. Thread-safe (see `brainstem_dio.link`)."""
+    `Module(link, addr)`. Thread-safe (see `brainstem_dio.link`)."""
 
     def __init__(
         self,
@@ -203,14 +207,14 @@ class Module:
         pin: int,
         cfg: CfgArg = None,
         *,
-        output: Optional[bool] = None,
-        latch: Optional[bool] = None,
-        latch_rising: Optional[bool] = None,
-        timer_high: Optional[bool] = None,
-        timer_width: Optional[bool] = None,
+        output: bool | None = None,
+        latch: bool | None = None,
+        latch_rising: bool | None = None,
+        timer_high: bool | None = None,
+        timer_width: bool | None = None,
         wait: bool = True,
-        timeout: Optional[float] = None,
-    ) -> Optional[Pending]:
+        timeout: float | None = None,
+    ) -> Pending | None:
         """cmdDIG_CFG set: `26, pin, DIGCFG`. `cfg` is a `DigCfg` or a raw byte; the named
         arguments override its fields. Fields given neither way take `DigCfg`'s defaults
         (an input, nothing armed), not the pin's current values: use `update_config` to
@@ -220,16 +224,16 @@ class Module:
         base = DigCfg.from_byte(cfg) if isinstance(cfg, int) else (cfg or DigCfg())
         changes = {
             k: v
-            for k, v in dict(
-                output=output, latch=latch, latch_rising=latch_rising, timer_high=timer_high, timer_width=timer_width
-            ).items()
+            for k, v in {
+                "output": output, "latch": latch, "latch_rising": latch_rising, "timer_high": timer_high, "timer_width": timer_width
+            }.items()
             if v is not None
         }
         value = dataclasses.replace(base, **changes).to_byte()
         pin = _byte(pin, "pin")
         return self._no_reply(bytes([P.CMD_DIG_CFG, pin, value]), f"configure pin {pin}", wait, timeout)
 
-    def query(self, pin: int, *, timeout: Optional[float] = None) -> DigCfg:
+    def query(self, pin: int, *, timeout: float | None = None) -> DigCfg:
         """cmdDIG_CFG query `26, pin`: the pin's configuration (reply `26, pin, DIGCFG`).
         Raises CmdIndexErr for a pin out of range."""
         pin = _byte(pin, "pin")
@@ -253,7 +257,7 @@ class Module:
             )
         return DigCfg.from_byte(value)
 
-    def update_config(self, pin: int, *, timeout: Optional[float] = None, **changes: bool) -> DigCfg:
+    def update_config(self, pin: int, *, timeout: float | None = None, **changes: bool) -> DigCfg:
         """Query the pin, change the named `DigCfg` fields, configure it; returns the new
         configuration."""
         cfg = dataclasses.replace(self.query(pin, timeout=timeout), fixed=False, **changes)
@@ -261,13 +265,13 @@ class Module:
         return cfg
 
     # ---- digital I/O -------------------------------------------------------------------------------
-    def write(self, pin: int, value: Union[bool, int], *, wait: bool = True, timeout: Optional[float] = None) -> Optional[Pending]:
+    def write(self, pin: int, value: bool | int, *, wait: bool = True, timeout: float | None = None) -> Pending | None:
         """cmdDIG_IO write `27, pin, value`: drive an output pin high (value true) or low.
         Raises CmdIndexErr if the pin is out of range or an input."""
         pin = _byte(pin, "pin")
         return self._no_reply(bytes([P.CMD_DIG_IO, pin, 1 if value else 0]), f"write pin {pin}", wait, timeout)
 
-    def read(self, pin: int, *, rflx: bool = False, timeout: Optional[float] = None) -> int:
+    def read(self, pin: int, *, rflx: bool = False, timeout: float | None = None) -> int:
         """cmdDIG_IO read `27, DEVCODE` (HOST set, RFLX if `rflx`): the input pin's level,
         0 or 1. Raises CmdIndexErr if the pin is out of range or an output."""
         devcode = P.DEVCODE_HOST | (P.DEVCODE_RFLX if rflx else 0) | _pin6(pin)
@@ -287,13 +291,13 @@ class Module:
             self._bad_reply(reply, f"a read of pin {pin}", f"level {reply.data[2]} (a level is 0 or 1)")
         return reply.data[2]
 
-    def rearm(self, pin: int, *, wait: bool = True, timeout: Optional[float] = None) -> Optional[Pending]:
+    def rearm(self, pin: int, *, wait: bool = True, timeout: float | None = None) -> Pending | None:
         """cmdDIG_RST `28, pin`: re-arm the pin's transition latch (no effect while its ENA
         is 0). Raises CmdIndexErr for a pin out of range."""
         pin = _byte(pin, "pin")
         return self._no_reply(bytes([P.CMD_DIG_RST, pin]), f"re-arm pin {pin}", wait, timeout)
 
-    def reflect(self, pin: int, *, wait: bool = True, timeout: Optional[float] = None) -> Optional[Pending]:
+    def reflect(self, pin: int, *, wait: bool = True, timeout: float | None = None) -> Pending | None:
         """cmdDIG_IO read with RFLX only: the level goes to the module's `rflx_*` outputs,
         nothing to the host."""
         data = bytes([P.CMD_DIG_IO, P.DEVCODE_RFLX | _pin6(pin)])
@@ -301,8 +305,8 @@ class Module:
 
     # ---- event timer ---------------------------------------------------------------------------------
     def start_timer(
-        self, pin: int, *, rflx: bool = False, host: bool = True, timeout: Optional[float] = None
-    ) -> Optional[TimerHandle]:
+        self, pin: int, *, rflx: bool = False, host: bool = True, timeout: float | None = None
+    ) -> TimerHandle | None:
         """cmdPTIME_RD `29, DEVCODE`: start the pin's measurement (in the mode its DIGCFG
         sets) and return once the module has accepted it. Raises CmdIndexErr (no timer on
         the pin, out of range, an output) or TmrConflict (its timer is busy). Returns a
@@ -318,7 +322,7 @@ class Module:
             return None
         return TimerHandle(self, pin, waiter, time.monotonic() + self._timeout(None) + P.TIMER_TIMEOUT_S)
 
-    def time_pin(self, pin: int, *, rflx: bool = False, timeout: Optional[float] = None) -> TimerResult:
+    def time_pin(self, pin: int, *, rflx: bool = False, timeout: float | None = None) -> TimerResult:
         """Start the pin's measurement and wait for its result (`start_timer` + `result`).
         `timeout` bounds the whole call; the default is the module's timeout plus the
         module's 104.9 ms timer timeout."""
@@ -329,7 +333,7 @@ class Module:
         return handle.result(max(0.0, deadline - time.monotonic()))
 
     # ---- link checks ---------------------------------------------------------------------------------
-    def echo(self, data: Union[bytes, Iterable[int]] = b"", *, timeout: Optional[float] = None) -> bytes:
+    def echo(self, data: bytes | Iterable[int] = b"", *, timeout: float | None = None) -> bytes:
         """cmdDEBUG `23, data...` (at most 7 bytes): returns the bytes the module echoed."""
         data = bytes(data)
         if len(data) > P.MAX_N - 1:
@@ -338,7 +342,7 @@ class Module:
         reply = self._reply(body, exact_match(bytes([self.addr, len(body)]) + body), "echo", timeout)
         return reply.data[1:]
 
-    def probe(self, *, timeout: Optional[float] = None) -> float:
+    def probe(self, *, timeout: float | None = None) -> float:
         """The resync probe `AD 00`; waits for the module's `A 00` and returns the round trip
         in seconds."""
         start = time.monotonic()
@@ -349,7 +353,7 @@ class Module:
         self._finish(t, timeout)
         return time.monotonic() - start
 
-    def reset(self, *, timeout: Optional[float] = None) -> None:
+    def reset(self, *, timeout: float | None = None) -> None:
         """cmdRESET `24`: the module returns to its power-up state (every pin an input,
         nothing armed, output latches 0, timers stopped, heartbeat restarting) and answers
         with the power-up message `A, 2, 0x80, 4`, for which this waits. The module drops
@@ -367,7 +371,7 @@ class Module:
                 pend for pend in self._unchecked if not (pend.done() and isinstance(pend._t.exc, ModuleReset))
             ]
 
-    def sync(self, *, timeout: Optional[float] = None) -> None:
+    def sync(self, *, timeout: float | None = None) -> None:
         """Send an echo and wait for it: everything sent before has then been executed.
         Raises the first error no call has reported yet: a message caused by a raw `send`,
         or the error of a `wait=False` command whose `result()` nobody took (errors left
@@ -400,10 +404,10 @@ class Module:
     # ---- raw packets --------------------------------------------------------------------------------------
     def request(
         self,
-        data: Union[bytes, Iterable[int]],
+        data: bytes | Iterable[int],
         *,
-        n: Optional[int] = None,
-        timeout: Optional[float] = None,
+        n: int | None = None,
+        timeout: float | None = None,
         check: bool = True,
     ) -> list[Packet]:
         """Send any packet `addr, N, data` (`n` overrides N) followed by a sync echo, and
@@ -423,13 +427,13 @@ class Module:
             raise self._message_error(t)
         return list(t.packets)
 
-    def send(self, data: Union[bytes, Iterable[int]], *, n: Optional[int] = None) -> None:
+    def send(self, data: bytes | Iterable[int], *, n: int | None = None) -> None:
         """Send a packet to this module and return at once. Nothing waits for its answers:
         with no call in flight they go to the unsolicited queue; a message it causes is
         raised by the next `sync()` if a call does not take it first. Prefer `request`."""
         self.link.send_packet(self.addr, data, n)
 
-    def receive(self, timeout: Optional[float] = None) -> Packet:
+    def receive(self, timeout: float | None = None) -> Packet:
         """The next unsolicited packet of the link (see `Link.receive`)."""
         return self.link.receive(timeout)
 
@@ -442,14 +446,14 @@ class Module:
         if self._owns_link:
             self.link.close()
 
-    def __enter__(self) -> Module:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
 
     # ---- internals ------------------------------------------------------------------------------------------
-    def _timeout(self, timeout: Optional[float]) -> float:
+    def _timeout(self, timeout: float | None) -> float:
         return self.timeout if timeout is None else timeout
 
     def _packet(self, data: bytes) -> bytes:
@@ -466,17 +470,17 @@ class Module:
     def _submit(
         self,
         data: bytes,
-        expect: Optional[Callable[[Packet], bool]],
+        expect: Callable[[Packet], bool] | None,
         label: str,
-        timer: Optional[TimerWaiter] = None,
-        on_done: Optional[Callable[[Transaction], None]] = None,
+        timer: TimerWaiter | None = None,
+        on_done: Callable[[Transaction], None] | None = None,
     ) -> Transaction:
         self._auto_sync()
         return self.link.submit(
             self.addr, self._packet(data), command=data, expect=expect, label=label, timer=timer, on_done=on_done
         )
 
-    def _finish(self, t: Transaction, timeout: Optional[float]) -> Optional[Packet]:
+    def _finish(self, t: Transaction, timeout: float | None) -> Packet | None:
         t.wait(self._timeout(timeout))
         if t.exc is not None:
             raise t.exc
@@ -488,7 +492,7 @@ class Module:
         assert t.error is not None
         return self._message_exception(t.error, t.command, [p for p in t.packets if p is not t.error])
 
-    def _message_exception(self, msg: Packet, command: Optional[bytes], others: list[Packet]) -> BaseException:
+    def _message_exception(self, msg: Packet, command: bytes | None, others: list[Packet]) -> BaseException:
         """The exception for a message a call received: its ModuleError, or ProtocolError for
         a code no command causes (PROTOCOL.md §2)."""
         if msg.message_code not in P.COMMAND_MESSAGES:
@@ -506,12 +510,12 @@ class Module:
         self.link.mark_needs_sync(self.addr)
         raise ProtocolError(f"module {self.addr} answered {call} with {_hex(reply)}: {why}")
 
-    def _reply(self, data: bytes, expect: Callable[[Packet], bool], label: str, timeout: Optional[float]) -> Packet:
+    def _reply(self, data: bytes, expect: Callable[[Packet], bool], label: str, timeout: float | None) -> Packet:
         reply = self._finish(self._submit(data, expect, label), timeout)
         assert reply is not None
         return reply
 
-    def _no_reply(self, data: bytes, label: str, wait: bool, timeout: Optional[float]) -> Optional[Pending]:
+    def _no_reply(self, data: bytes, label: str, wait: bool, timeout: float | None) -> Pending | None:
         if wait:
             self._finish(self._submit(data, None, label), timeout)
             return None
@@ -555,4 +559,4 @@ def _pin6(pin: int) -> int:
     return pin
 
 
-__all__: Sequence[str] = ["DigCfg", "TimerResult", "Pending", "TimerHandle", "Module"]
+__all__: Sequence[str] = ["DigCfg", "Module", "Pending", "TimerHandle", "TimerResult"]

@@ -12,20 +12,38 @@ The second half decodes packets to text in the style of the project's session tr
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 # --- constants ------------------------------------------------------------------------------
 # Generated from the project's one protocol table (tools/protocol.toml); see that file.
-from ._protocol_table import (  # noqa: E402,F401  (re-exported: the library's constants)
-    ADDR_RESYNC, CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_MSG,
-    CMD_MAX_N, CMD_MIN_N, CMD_PTIME_RD, CMD_RESET, COMMANDS, DEFAULT_MODULE_ADDR, DEFAULT_NUM_PINS,
-    DEFAULT_PIN_ID_BASE, DEFAULT_RX_TIMEOUT_US, DEFAULT_TIMER_ID_BASE, DEFAULT_TIMER_MASK,
-    DEFAULT_TRANS_ID_BASE, DEV_ID_LIMIT, DEVCODE_HOST, DEVCODE_PIN, DEVCODE_RFLX, DIGCFG_ENA,
-    DIGCFG_FIXED, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED, DIGCFG_TMODE, DIGCFG_TRG,
-    DIGCFG_TSTATE, HB_ANSWER_OFFSET, HB_DOWN, HB_UNIT_TICKS, HB_UP, MAX_N, MESSAGE_TEXT,
-    MESSAGES, MSG_CMD_INDEX_ERR, MSG_CMD_INVALID, MSG_CMD_Q_OVERFLOW, MSG_CMD_TOO_LONG,
-    MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR, MSG_N, MSG_SERIAL_ERROR, MSG_STATE_POWER_RESET,
-    MSG_TMR_CONFLICT, TICK_HZ, TIMER_MAX_TICKS,
+# Every name of the table is the library's (re-exported); the ones used below come by name too.
+from .protocol_table import *
+from .protocol_table import (
+    ADDR_RESYNC,
+    CMD_DEV_VAL,
+    COMMANDS,
+    DEFAULT_PIN_ID_BASE,
+    DEFAULT_TIMER_ID_BASE,
+    DIGCFG_ENA,
+    DIGCFG_FIXED,
+    DIGCFG_IODIR,
+    DIGCFG_STORED,
+    DIGCFG_TMODE,
+    DIGCFG_TRG,
+    DIGCFG_TSTATE,
+    HB_UNIT_TICKS,
+    MESSAGES,
+    MSG_CMD_INDEX_ERR,
+    MSG_CMD_INVALID,
+    MSG_CMD_Q_OVERFLOW,
+    MSG_CMD_TOO_LONG,
+    MSG_CMD_TOO_SHORT,
+    MSG_CONFIG_ERR,
+    MSG_SERIAL_ERROR,
+    MSG_STATE_POWER_RESET,
+    MSG_TMR_CONFLICT,
+    TICK_HZ,
+    TIMER_MAX_TICKS,
 )
 
 # --- derived values --------------------------------------------------------------------------

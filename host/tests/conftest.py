@@ -1,14 +1,21 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Fixtures of the host library's unit tests: a fake module on an in-memory line."""
+"""Fixtures of the host library's unit tests: a fake module on an in-memory line.
+
+The fake module is the testbenches' model of the core (tb/lib/bsd_model.py): these tests run
+from the repository, so tb/lib goes on the import path here (it is not part of the library)."""
 
 from __future__ import annotations
 
-from typing import Callable, Iterator
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tb" / "lib"))
 
 import pytest
+from host_fake import FakeModule, serial_pair
 
 import brainstem_dio
-from host_fake import FakeModule, serial_pair
 
 
 @pytest.fixture
@@ -23,10 +30,9 @@ def rig() -> Iterator[Callable[..., tuple[brainstem_dio.Module, FakeModule]]]:
         mod_opts = {k[4:]: v for k, v in options.items() if k.startswith("mod_")}
         fake_opts = {k: v for k, v in options.items() if not k.startswith(("link_", "mod_"))}
         host, dev = serial_pair()
-        fake = FakeModule(dev, **fake_opts)  # type: ignore[arg-type]
-        link = brainstem_dio.Link(host, **link_opts)  # type: ignore[arg-type]
-        m = link.module(fake.addr, **mod_opts)
-        m._owns_link = True
+        fake = FakeModule(dev, **fake_opts)
+        link = brainstem_dio.Link(host, **link_opts)
+        m = brainstem_dio.Module(link, fake.addr, owns_link=True, **mod_opts)
         fake.start()
         made.append((m, fake))
         return m, fake

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """Test doubles for the host library: an in-memory serial pair, a socket end, and a fake
-module (a small Python model of the core's packet behaviour, PROTOCOL.md) behind them."""
+module (the testbenches' model of the core, tb/lib/bsd_model.py, on a line) behind them."""
 
 from __future__ import annotations
 
@@ -8,9 +8,11 @@ import select
 import socket
 import threading
 import time
-from typing import Callable, Optional
+from collections.abc import Callable
+from typing import Any
 
 from brainstem_dio import protocol as P
+from bsd_model import Event, Framing, Model, Output, Params, PartialDropped, Reset, TimerStarted, message
 
 
 class PortClosed(OSError):
@@ -22,9 +24,9 @@ class PipeEnd:
 
     def __init__(self, name: str) -> None:
         self.name = name
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
-        self.peer: Optional[PipeEnd] = None
+        self.peer: PipeEnd | None = None
         self._buf = bytearray()
         self._cond = threading.Condition()
         self.written = bytearray()  # everything this end wrote
@@ -40,7 +42,7 @@ class PipeEnd:
 
     def read(self, size: int = 1) -> bytes:
         with self._cond:
-            peer_gone = lambda: self.peer is None or not self.peer.is_open  # noqa: E731
+            peer_gone = lambda: self.peer is None or not self.peer.is_open
             self._cond.wait_for(lambda: self._buf or not self.is_open or peer_gone(), self.timeout)
             if not self.is_open:
                 raise PortClosed(f"{self.name}: closed")
@@ -78,7 +80,7 @@ class SocketEnd:
 
     def __init__(self, sock: socket.socket) -> None:
         self.sock = sock
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
         self.name = "socket"
 
@@ -111,79 +113,129 @@ class SocketEnd:
         self.sock.close()
 
 
+class FakeModel(Model):
+    """The testbenches' model of the core (tb/lib/bsd_model.py) with the fake's own switches
+    on the packets it takes: `fake.on_packet` sees every whole packet first, and a module
+    without cmdRESET (`fake.knows_reset` False) refuses it as cmdInvalid."""
+
+    def __init__(self, fake: FakeModule, params: Params, levels: int) -> None:
+        self.fake = fake
+        super().__init__(params, levels)
+
+    def packet(self, addr: int, data: bytes, out: Output) -> None:
+        fake = self.fake
+        fake.received.append((addr, data))
+        if addr == self.p.module_addr and data[0] == P.CMD_HB and len(data) >= 2:
+            fake.hb_answers.append(data[1])
+        if fake.on_packet is not None and fake.on_packet(addr, data):
+            return
+        if addr == self.p.module_addr and data[0] == P.CMD_RESET and not fake.knows_reset:
+            out.packets.append(message(addr, P.MSG_CMD_INVALID))
+            return
+        super().packet(addr, data, out)
+        # An instant timer's result leaves before anything the next packet causes, as the
+        # core's does for a pulse shorter than the bytes of the PTIME_RD's sync echo.
+        for pin in fake.instant_done:
+            out.extend(self.timer_complete(pin, fake.timer_results[pin] or 0))
+        fake.instant_done.clear()
+
+
 class FakeModule:
     """A fake BrainStem module on `port` (the device end of a line).
 
-    The model follows PROTOCOL.md: framing (N > 8 -> serialError to its own address, the
-    resync probe, other addresses ignored, the inter-byte timeout), every command and its
-    errors with their precedence, the cmdDEBUG echo, cmdRESET (any N: back to the power-up
-    state, running timers stopped, the power-up message as its answer; `resets` counts them),
-    timers (a started measurement completes
-    after `timer_delay` s with `timer_results[pin]` ticks, or times out with 0 after
-    `timer_timeout_s` when that is None), heartbeats on demand, and answers recorded.
+    What the module decides (framing, the resync probe, the inter-byte timeout, every command
+    and its errors with their precedence, the cmdDEBUG echo, cmdRESET: back to the power-up
+    state, running timers stopped, the power-up message as its answer) is the testbenches'
+    model of the core, `bsd_model.Model` (`model`). The fake adds the line and the clock: a
+    started measurement completes after `timer_delay` s with `timer_results[pin]` ticks, or
+    times out with 0 after `timer_timeout_s` when that is None; heartbeats on demand; host
+    packets recorded (`received`, `hb_answers`, `probes`, `resets`, `dropped_partials`).
 
     Knobs for tests: `mute` (answer nothing), `reply_delay` (s before each answer),
-    `instant_timers` (a measurement with a result in `timer_results` completes at once: its
-    result leaves before anything the next packet causes, as the core's does for a pulse
-    shorter than the bytes of the PTIME_RD's sync echo),
-    `inject(raw)` (send bytes to the host), `on_packet` (a hook given each host packet;
-    returning True means it was handled)."""
+    `instant_timers` (a measurement with a result in `timer_results` completes at once),
+    `knows_reset` (False: a module without cmdRESET), `inject(raw)` (send bytes to the host),
+    `on_packet` (a hook given each host packet; returning True means it was handled)."""
 
     def __init__(
         self,
-        port,
+        port: Any,
         *,
         addr: int = 2,
         num_pins: int = 5,
         timer_mask: int = 0b11110,
-        fixed: Optional[dict[int, int]] = None,
+        fixed: dict[int, int] | None = None,
         pin_id_base: int = 5,
         timer_id_base: int = 10,
-        rx_timeout: Optional[float] = 0.0256,
+        rx_timeout: float | None = 0.0256,
         power_up: bool = True,
         levels: int = 0,
     ) -> None:
         self.port = port
         self.port.timeout = 0.005
         self.addr = addr
-        self.num_pins = num_pins
-        self.timer_mask = timer_mask
-        self.fixed = dict(fixed or {})
-        self.pin_id_base = pin_id_base
-        self.timer_id_base = timer_id_base
-        self.rx_timeout = rx_timeout
-        self.levels = levels
-        self.cfg = [(self.fixed[p] & 0x1F) if p in self.fixed else P.DIGCFG_RESET for p in range(num_pins)]
-        self.out_latch = [0] * num_pins
-        self.busy: set[int] = set()
-        self.timer_results: dict[int, Optional[int]] = {}
+        fixed = dict(fixed or {})
+        params = Params(
+            module_addr=addr,
+            num_pins=num_pins,
+            timer_mask=timer_mask,
+            fixed_mask=sum(1 << p for p in fixed),
+            fixed_cfg=sum((cfg & P.DIGCFG_STORED) << (8 * p) for p, cfg in fixed.items()),
+            pin_id_base=pin_id_base,
+            timer_id_base=timer_id_base,
+            rx_timeout_us=round(rx_timeout * 1e6) if rx_timeout else 0,
+        )
+        self.timer_results: dict[int, int | None] = {}
         self.timer_delay = 0.005
         self.instant_timers = False
+        self.instant_done: list[int] = []  # instant measurements started by the packet in hand
         self.timer_timeout_s = P.TIMER_TIMEOUT_S
         self.reply_delay = 0.0
         self.mute = False
-        self.on_packet: Optional[Callable[[int, bytes], bool]] = None
+        self.knows_reset = True  # False: a module without cmdRESET (cmdInvalid)
+        self.on_packet: Callable[[int, bytes], bool] | None = None
         self.received: list[tuple[int, bytes]] = []  # host packets, whole
         self.hb_answers: list[int] = []
         self.probes = 0
         self.dropped_partials = 0
-        self._hb_next = P.HB_UP
+        self.resets = 0
+        self._lock = threading.RLock()  # the model, between the line's thread and the timers'
         self._send_lock = threading.Lock()
         self._stop = threading.Event()
-        self._state = "addr"
-        self._pkt = bytearray()
         self._last = 0.0
         self._timers: list[threading.Timer] = []
         self._epoch = 0  # counts resets: a timer started before one never reports
-        self.resets = 0
-        self.knows_reset = True  # False: a module without cmdRESET (cmdInvalid)
+        self.model = FakeModel(self, params, levels)
+        self.model.observers.append(self._observe)
         self._thread = threading.Thread(target=self._run, name="fake-module", daemon=True)
         self._power_up = power_up
+
+    # ---- the model's state, as the tests read it ----
+    @property
+    def cfg(self) -> list[int]:
+        return self.model.cfg
+
+    @property
+    def out_latch(self) -> list[int]:
+        return self.model.out_latch
+
+    @property
+    def busy(self) -> set[int]:
+        """Pins whose timer is measuring."""
+        return set(self.model.timers)
+
+    @property
+    def levels(self) -> int:
+        return self.model.levels
+
+    @levels.setter
+    def levels(self, value: int) -> None:
+        with self._lock:
+            self.model.set_pins(value)  # latch firings do not reach the host line
 
     # ---- control ----
     def start(self) -> FakeModule:
         if self._power_up:
-            self._send(bytes([self.addr, 2, P.CMD_MSG, P.MSG_STATE_POWER_RESET]))
+            self._send(message(self.addr, P.MSG_STATE_POWER_RESET))
         self._thread.start()
         return self
 
@@ -199,10 +251,11 @@ class FakeModule:
 
     def heartbeat(self) -> int:
         """Send the next heartbeat (UP, DOWN, UP ...); returns its type."""
-        kind = self._hb_next
-        self._hb_next ^= 1
-        self._send(bytes([self.addr, 2, P.CMD_HB, kind]))
-        return kind
+        with self._lock:
+            out = self.model.heartbeat_due()
+        for pk in out.packets:
+            self._send(pk)
+        return out.packets[0][3]
 
     def packets_with(self, cmd: int) -> list[bytes]:
         return [d for a, d in self.received if a == self.addr and d and d[0] == cmd]
@@ -222,176 +275,69 @@ class FakeModule:
             time.sleep(self.reply_delay)
         self._send(raw)
 
-    def _msg(self, code: int) -> None:
-        self._answer(bytes([self.addr, 2, P.CMD_MSG, code]))
-
     def _run(self) -> None:
         while not self._stop.is_set():
             try:
                 data = self.port.read(64)
             except OSError:
                 return
+            if not data:
+                continue
             now = time.monotonic()
-            if (
-                self._state != "addr"
-                and self.rx_timeout is not None
-                and data
-                and now - self._last > self.rx_timeout
-            ):
-                self._state = "addr"
-                self.dropped_partials += 1
+            idle = now - self._last
+            self._last = now
+            # Byte by byte, each one's answers sent before the next byte is taken: a hook
+            # that writes to the line sees every earlier answer already sent.
             for b in data:
-                self._byte(b)
-            if data:
-                self._last = now
+                with self._lock:
+                    out = self.model.feed([b], idle_before_s=idle)
+                idle = 0.0
+                for pk in out.packets:
+                    self._answer(pk)
 
-    def _byte(self, b: int) -> None:
-        if self._state == "addr":
-            self._pkt = bytearray([b])
-            self._state = "len"
-        elif self._state == "len":
-            if b > P.MAX_N:
-                self._state = "addr"
-                if self._pkt[0] == self.addr:
-                    self.received.append((self._pkt[0], bytes([b])))
-                    self._msg(P.MSG_SERIAL_ERROR)
-            elif b == 0:
-                self._state = "addr"
-                self.received.append((self._pkt[0], b""))
-                if self._pkt[0] == P.ADDR_RESYNC:
-                    self.probes += 1
-                    self._answer(bytes([self.addr, 0]))
-            else:
-                self._pkt.append(b)
-                self._state = "data"
-        else:
-            self._pkt.append(b)
-            if len(self._pkt) == self._pkt[1] + 2:
-                self._state = "addr"
-                addr, data = self._pkt[0], bytes(self._pkt[2:])
-                self.received.append((addr, data))
-                if self.on_packet is not None and self.on_packet(addr, data):
-                    return
-                if addr == self.addr:
-                    self._execute(data)
-
-    # ---- commands ----
-    def _execute(self, d: bytes) -> None:
-        cmd = d[0]
-        if cmd == P.CMD_HB:
-            if len(d) >= 2:
-                self.hb_answers.append(d[1])
-            return
-        if cmd == P.CMD_DEBUG:
-            self._answer(bytes([self.addr, len(d)]) + d)
-            return
-        if cmd == P.CMD_RESET:
-            if self.knows_reset:
-                self._reset()
-            else:
-                self._msg(P.MSG_CMD_INVALID)
-            return
-        longest = P.CMD_MAX_N.get(cmd)
-        if longest is None:
-            self._msg(P.MSG_CMD_INVALID)
-            return
-        if len(d) < P.CMD_MIN_N[cmd]:
-            self._msg(P.MSG_CMD_TOO_SHORT)
-            return
-        handler = {
-            P.CMD_DIG_CFG: self._dig_cfg,
-            P.CMD_DIG_IO: self._dig_io,
-            P.CMD_DIG_RST: self._dig_rst,
-            P.CMD_PTIME_RD: self._ptime_rd,
-        }[cmd]
-        error = handler(d[:longest])
-        if error is not None:
-            self._msg(error)
-        elif len(d) > longest:
-            self._msg(P.MSG_CMD_TOO_LONG)
-
-    def _reset(self) -> None:
-        with self._send_lock:  # no timer result may slip out between the reset and its answer
-            self._epoch += 1
+    # ---- what the model decided ----
+    def _observe(self, ev: Event) -> None:
+        if isinstance(ev, Framing):
+            if ev.n == 0:
+                self.received.append((ev.addr, b""))
+                self.probes += ev.addr == P.ADDR_RESYNC
+            elif ev.addr == self.addr:
+                self.received.append((ev.addr, bytes([ev.n])))
+        elif isinstance(ev, PartialDropped):
+            self.dropped_partials += 1
+        elif isinstance(ev, Reset):
             self.resets += 1
+            self._epoch += 1
             for t in self._timers:
                 t.cancel()
             self._timers = []
-            self.busy.clear()
-            self.cfg = [(self.fixed[p] & 0x1F) if p in self.fixed else P.DIGCFG_RESET for p in range(self.num_pins)]
-            self.out_latch = [0] * self.num_pins
-            self._hb_next = P.HB_UP
-        self._answer(bytes([self.addr, 2, P.CMD_MSG, P.MSG_STATE_POWER_RESET]))
+            self.instant_done.clear()
+        elif isinstance(ev, TimerStarted):
+            ticks = self.timer_results.get(ev.pin)
+            if self.instant_timers and ticks is not None:
+                self.instant_done.append(ev.pin)
+                return
+            delay = self.timer_timeout_s if ticks is None else self.timer_delay
+            t = threading.Timer(delay, self._timer_done, (ev.pin, ticks or 0, self._epoch))
+            t.daemon = True
+            self._timers.append(t)
+            t.start()
 
-    def _is_input(self, pin: int) -> bool:
-        return bool(self.cfg[pin] & P.DIGCFG_IODIR)
-
-    def _dig_cfg(self, d: bytes) -> Optional[int]:
-        pin = d[1]
-        if pin >= self.num_pins:
-            return P.MSG_CMD_INDEX_ERR
-        if len(d) == 2:
-            value = self.cfg[pin] | (P.DIGCFG_FIXED if pin in self.fixed else 0)
-            self._answer(bytes([self.addr, 3, P.CMD_DIG_CFG, pin, value]))
-            return None
-        if pin in self.fixed:
-            return P.MSG_CONFIG_ERR
-        self.cfg[pin] = d[2] & P.DIGCFG_STORED
-        return None
-
-    def _dig_io(self, d: bytes) -> Optional[int]:
-        if len(d) == 2:
-            pin = d[1] & P.DEVCODE_PIN
-            if pin >= self.num_pins or not self._is_input(pin):
-                return P.MSG_CMD_INDEX_ERR
-            if d[1] & P.DEVCODE_HOST:
-                self._answer(bytes([self.addr, 3, P.CMD_DEV_VAL, self.pin_id_base + pin, self.levels >> pin & 1]))
-            return None
-        pin = d[1]
-        if pin >= self.num_pins or self._is_input(pin):
-            return P.MSG_CMD_INDEX_ERR
-        self.out_latch[pin] = int(d[2] != 0)
-        return None
-
-    def _dig_rst(self, d: bytes) -> Optional[int]:
-        return P.MSG_CMD_INDEX_ERR if d[1] >= self.num_pins else None
-
-    def _ptime_rd(self, d: bytes) -> Optional[int]:
-        devcode = d[1]
-        pin = devcode & P.DEVCODE_PIN
-        if pin >= self.num_pins or not self.timer_mask >> pin & 1 or not self._is_input(pin):
-            return P.MSG_CMD_INDEX_ERR
-        if pin in self.busy:
-            return P.MSG_TMR_CONFLICT
-        self.busy.add(pin)
-        ticks = self.timer_results.get(pin)
-        if self.instant_timers and ticks is not None:
-            self._timer_done(pin, ticks, bool(devcode & P.DEVCODE_HOST), self._epoch)
-            return None
-        delay = self.timer_timeout_s if ticks is None else self.timer_delay
-        t = threading.Timer(delay, self._timer_done, (pin, ticks or 0, bool(devcode & P.DEVCODE_HOST), self._epoch))
-        t.daemon = True
-        self._timers.append(t)
-        t.start()
-        return None
-
-    def _timer_done(self, pin: int, ticks: int, host: bool, epoch: int) -> None:
-        with self._send_lock:
+    def _timer_done(self, pin: int, ticks: int, epoch: int) -> None:
+        with self._lock:
             if epoch != self._epoch:
                 return  # stopped by a reset
-            if host and not self.mute:
-                try:
-                    self.port.write(bytes([self.addr, 4, P.CMD_DEV_VAL, self.timer_id_base + pin, ticks >> 8, ticks & 0xFF]))
-                except OSError:
-                    pass
-            self.busy.discard(pin)
+            out = self.model.timer_complete(pin, ticks)
+            if not self.mute:
+                for pk in out.packets:
+                    self._send(pk)
 
 
 class FakeServer:
     """A FakeModule behind a TCP socket on 127.0.0.1 (for `socket://` URLs): serves one
     connection at a time, a fresh fake module for each."""
 
-    def __init__(self, setup: Optional[Callable[[FakeModule], None]] = None, **fake_options) -> None:
+    def __init__(self, setup: Callable[[FakeModule], None] | None = None, **fake_options) -> None:
         self._listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         self._listener.bind(("127.0.0.1", 0))
@@ -410,7 +356,7 @@ class FakeServer:
         while not self._stop.is_set():
             try:
                 conn, _ = self._listener.accept()
-            except (socket.timeout, OSError):
+            except (TimeoutError, OSError):
                 continue
             conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             fake = FakeModule(SocketEnd(conn), **self._options)
@@ -433,7 +379,7 @@ class FdEnd:
 
     def __init__(self, fd: int) -> None:
         self.fd = fd
-        self.timeout: Optional[float] = None
+        self.timeout: float | None = None
         self.is_open = True
         self.name = "pty-master"
 

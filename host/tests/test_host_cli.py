@@ -10,10 +10,10 @@ import subprocess
 import sys
 
 import pytest
+from host_fake import FakeModule, FakeServer, serial_pair
 
 import brainstem_dio.link
 from brainstem_dio.cli import main
-from host_fake import FakeModule, FakeServer, serial_pair
 
 
 @pytest.fixture
@@ -77,14 +77,14 @@ def test_argument_errors_exit_2(argv, message, capsys):
 
 
 def test_port_that_does_not_exist(capsys):
-    rc, out = run(["read", "/dev/brainstem-dio-nope", "0"])
+    rc, _out = run(["read", "/dev/brainstem-dio-nope", "0"])
     assert rc == 1
     err = capsys.readouterr().err
     assert "error: cannot open port '/dev/brainstem-dio-nope': No such file or directory" in err
 
 
 def test_nobody_answers(fake_port, capsys):
-    rc, out = run(["probe", "mute", "--timeout", "0.05"])
+    rc, _out = run(["probe", "mute", "--timeout", "0.05"])
     assert rc == 1
     err = capsys.readouterr().err
     assert "no answer from module 2" in err and "--baud 9600" in err and "--addr 2" in err
@@ -172,7 +172,7 @@ def test_watch_prints_everything_heartbeats_included(fake_port):
 
 
 def test_watch_nothing(fake_port):
-    rc, out = run(["watch", "mute", "--duration", "0.05"])
+    rc, _out = run(["watch", "mute", "--duration", "0.05"])
     assert rc == 0
 
 
@@ -234,7 +234,7 @@ def test_console_session(fake_port):
 
 
 def test_console_verbose_shows_the_sync_echoes(fake_port):
-    rc, out = run(["console", "fake", "-v", "--linger", "0"], "write 1 1\n")
+    _rc, out = run(["console", "fake", "-v", "--linger", "0"], "write 1 1\n")
     assert re.search(r"> 02:17,B5,[0-9A-F]{2} +echo request +\(sync\)", out)
 
 
@@ -259,6 +259,7 @@ def test_python_m_entry_point():
         capture_output=True,
         text=True,
         timeout=30,
+        check=False,
     )
     assert proc.returncode == 1
     assert "cannot open port" in proc.stderr

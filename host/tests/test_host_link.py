@@ -10,12 +10,11 @@ import time
 import tty
 
 import pytest
+from host_fake import FakeModule, FakeServer, FdEnd, serial_pair, wait_for
 
 import brainstem_dio
 from brainstem_dio import Packet
 from brainstem_dio import protocol as P
-from host_fake import wait_for
-from host_fake import FakeModule, FakeServer, FdEnd, serial_pair
 
 BAD_BYTES = {
     "odd address": b"\x03",
@@ -155,14 +154,14 @@ def test_heartbeats_are_answered_while_the_user_sleeps(rig):
 
 
 def test_heartbeat_answers_are_sent_promptly(rig):
-    m, fake = rig()
+    _m, fake = rig()
     times: list[float] = []
     fake.on_packet = lambda a, d: bool(d[:1] == b"\x00" and times.append(time.monotonic()))
     for _ in range(5):
         start = time.monotonic()
         n = len(times)
         fake.heartbeat()
-        assert wait_for(lambda: len(times) > n, 1.0)
+        assert wait_for(lambda n=n: len(times) > n, 1.0)
         assert times[-1] - start < 0.2
 
 
@@ -260,7 +259,7 @@ def test_no_hang_when_the_port_goes_away(rig):
     def call() -> None:
         try:
             m.query(3)
-        except BaseException as exc:  # noqa: BLE001
+        except BaseException as exc:  # noqa: BLE001 - the thread hands whatever it raised to the test
             result.append(exc)
 
     t = threading.Thread(target=call)
@@ -296,7 +295,7 @@ def test_a_port_that_does_not_exist():
 
 
 def test_closed_link_refuses_calls(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.close()
     with pytest.raises(brainstem_dio.LinkError, match="closed"):
         m.query(1)
@@ -341,7 +340,7 @@ def test_pty_device_path():
 
 
 def test_calls_from_several_threads_are_attributed(rig):
-    m, fake = rig(levels=0b00101)
+    m, _fake = rig(levels=0b00101)
     m.configure(1, output=True)
     errors: list[str] = []
 
@@ -362,7 +361,7 @@ def test_calls_from_several_threads_are_attributed(rig):
                     assert m.read(pin) == (0b00101 >> pin) & 1
                     with pytest.raises(brainstem_dio.CmdIndexErr):
                         m.write(pin, 1)  # an input
-            except BaseException as exc:  # noqa: BLE001
+            except BaseException as exc:  # noqa: BLE001 - the thread hands whatever it raised to the test
                 errors.append(f"thread {k} step {i}: {exc!r}")
 
     threads = [threading.Thread(target=worker, args=(k,)) for k in range(4)]
@@ -392,7 +391,7 @@ def test_blocking_call_from_a_callback_is_refused(rig):
 
 
 def test_listener_sees_both_directions_and_marks_the_sync_echo(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.receive(1.0)
     events = record(m.link)
     m.configure(2, output=True)

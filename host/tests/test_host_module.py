@@ -8,11 +8,11 @@ import threading
 import time
 
 import pytest
+from host_fake import wait_for
 
 import brainstem_dio
 from brainstem_dio import DigCfg, Packet
 from brainstem_dio import protocol as P
-from host_fake import wait_for
 
 
 def sent(fake, cmd: int) -> list[bytes]:
@@ -60,7 +60,7 @@ def test_query_returns_the_configuration(rig):
 
 
 def test_update_config_changes_only_the_fields_named(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.configure(4, timer_width=True, timer_high=True)
     assert m.update_config(4, latch=True) == DigCfg(latch=True, timer_width=True, timer_high=True)
     assert int(m.query(4)) == 0x1B
@@ -100,7 +100,7 @@ def test_echo_and_probe(rig):
 
 
 def test_request_returns_every_answer(rig):
-    m, fake = rig()
+    m, _fake = rig()
     assert m.request([26, 3]) == [Packet.of(2, 26, 3, 1)]
     assert m.request([28, 1]) == []
     assert m.request([0x63], check=False) == [Packet.of(2, 0x80, 8)]
@@ -122,7 +122,7 @@ def test_module_address_is_checked():
     try:
         for addr in (0, 1, 3, 0xAD, 256):
             with pytest.raises(ValueError):
-                link.module(addr)
+                brainstem_dio.Module(link, addr)
     finally:
         link.close()
 
@@ -150,7 +150,7 @@ ERRORS = [
 
 @pytest.mark.parametrize("name, exc_type, call, command", ERRORS, ids=[e[0] for e in ERRORS])
 def test_each_error_is_raised_from_its_call(rig, name, exc_type, call, command):
-    m, fake = rig(fixed={4: 0x01})
+    m, _fake = rig(fixed={4: 0x01})
     m.configure(1, output=True)
     with pytest.raises(exc_type) as info:
         call(m)
@@ -177,7 +177,7 @@ def test_tmr_conflict_from_the_second_start(rig):
 
 
 def test_too_long_still_executes_the_command(rig):
-    m, fake = rig()
+    m, _fake = rig()
     with pytest.raises(brainstem_dio.CmdTooLong):
         m.request([26, 2, 0x00, 0xFF])
     assert m.query(2).output is True
@@ -195,7 +195,7 @@ def test_error_classes_by_code():
 
 
 def test_pipelined_commands_each_get_their_own_error(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.configure(1, output=True)
     bad = m.write(0, 1, wait=False)  # pin 0 is an input
     good = m.write(1, 1, wait=False)
@@ -227,7 +227,7 @@ def test_many_pipelined_commands(rig):
 
 
 def test_sync_raises_an_error_nobody_collected(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.write(0, 1, wait=False)
     m.write(3, 1, wait=False)
     with pytest.raises(brainstem_dio.CmdIndexErr) as info:
@@ -240,7 +240,7 @@ def test_sync_raises_an_error_nobody_collected(rig):
 
 
 def test_sync_attributes_an_error_of_a_raw_send(rig):
-    m, fake = rig()
+    m, _fake = rig()
     m.send([0x63])
     with pytest.raises(brainstem_dio.CmdInvalid):
         m.sync()
@@ -374,7 +374,7 @@ def test_module_reset_during_a_measurement(rig):
 
 
 def test_wrong_device_id_base_is_a_protocol_error(rig):
-    m, fake = rig(pin_id_base=20, levels=1)
+    m, _fake = rig(pin_id_base=20, levels=1)
     with pytest.raises(brainstem_dio.ProtocolError, match="pin_id_base"):
         m.read(0)
 

@@ -28,13 +28,13 @@ def sections() -> tuple[str, str]:
 
 
 def test_message_codes_match_the_contract():
-    rows = re.findall(r"^\| (\d+) \| (\w+)[^|]*\|", sections()[0], re.M)
+    rows = re.findall(r"^\| (\d+) \| (\w+)[^|]*\|", sections()[0], re.MULTILINE)
     core = {c: n for c, n in P.MESSAGE_NAMES.items() if c != P.MSG_CMD_Q_OVERFLOW}
     assert {int(c): n for c, n in rows} == core
 
 
 def test_command_codes_match_the_contract():
-    rows = re.findall(r"^\| (\d+|0x[0-9A-F]+)(?: \(0x[0-9A-F]+\))? \| (cmd\w+) \|", sections()[1], re.M)
+    rows = re.findall(r"^\| (\d+|0x[0-9A-F]+)(?: \(0x[0-9A-F]+\))? \| (cmd\w+) \|", sections()[1], re.MULTILINE)
     assert {int(c, 0): n for c, n in rows} == P.COMMAND_NAMES
 
 

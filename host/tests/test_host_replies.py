@@ -53,7 +53,7 @@ def test_a_reply_that_breaks_the_contract_is_a_protocol_error(rig, call, cmd, ra
 
 @pytest.mark.parametrize("level", [0, 1])
 def test_levels_0_and_1_pass(rig, level):
-    m, fake = rig(levels=level)
+    m, _fake = rig(levels=level)
     assert m.read(0) == level
 
 
@@ -78,7 +78,7 @@ def test_fixed_may_not_vanish_from_a_fixed_pin(rig):
 
 
 def test_fixed_is_remembered_per_pin(rig):
-    m, fake = rig(fixed={0: 0x01})
+    m, _fake = rig(fixed={0: 0x01})
     assert m.query(0).fixed and not m.query(1).fixed
 
 

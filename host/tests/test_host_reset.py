@@ -8,11 +8,11 @@ import threading
 import time
 
 import pytest
+from host_fake import wait_for
 
 import brainstem_dio
 from brainstem_dio import DigCfg, Packet
 from brainstem_dio import protocol as P
-from host_fake import wait_for
 
 
 @pytest.fixture

@@ -14,18 +14,22 @@ Time only enters in three places, each made explicit so the testbench supplies i
   `timers_complete({pin: result})` for several on one clock); the expected result of a
   measurement is computed by the pure functions `timer_interval` / `expected_ticks`;
 - heartbeats: `heartbeat_due()` / `heartbeat_skipped()` when the testbench knows one fell due.
+
+Observers (`Model.observers`, callables) are told what the model decided, as the small events
+below (`Event`), in the order it decided it: functional coverage (tb/lib/fcov.py) and the host
+library's fake module (host/tests/host_fake.py) listen instead of reaching into the model.
+`Model.packet` is the one place a whole host packet enters; a test double may extend it.
 """
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field, fields
-from typing import Iterable, Mapping, Sequence
 
-from runner import hdl_params
+from bsd_protocol import ADDR_RESYNC as RESYNC_ADDR
 
 # --- protocol constants (PROTOCOL.md §2, §3): generated from tools/protocol.toml ----------
-
 # Re-exported: the tests import them from here.
 from bsd_protocol import (
     CMD_DEBUG,
@@ -50,20 +54,19 @@ from bsd_protocol import (
     DIGCFG_TMODE,
     DIGCFG_TRG,
     DIGCFG_TSTATE,
+    HB_UNIT_TICKS,
+    HB_UP,
     MSG_CMD_INDEX_ERR,
     MSG_CMD_INVALID,
     MSG_CMD_TOO_LONG,
     MSG_CMD_TOO_SHORT,
     MSG_CONFIG_ERR,
     MSG_SERIAL_ERROR,
-    MSG_STATE_POWER_RESET,
     MSG_TMR_CONFLICT,
     TICK_HZ,
     TIMER_MAX_TICKS,
 )
-from bsd_protocol import ADDR_RESYNC as RESYNC_ADDR
 from bsd_protocol import HB_ANSWER_OFFSET as HB_ANSWER  # the host answers type t with t + HB_ANSWER
-from bsd_protocol import HB_DOWN, HB_UNIT_TICKS, HB_UP
 from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_STATE_POWER_RESET as MSG_POWER_RESET
 
@@ -151,6 +154,8 @@ class Params:
     @classmethod
     def from_env(cls) -> Params:
         """Inside a cocotb test: the parameter set the simulation was built with."""
+        from runner import hdl_params  # the runner's, only in a simulation: the model stays free of cocotb
+
         return cls.from_hdl(hdl_params())
 
     def to_json(self) -> str:
@@ -248,6 +253,107 @@ class TimerRun:
     target: int
 
 
+# --- what the model tells its observers ----------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ByteFed:
+    """A host byte entered the framing (before it takes effect)."""
+
+    value: int
+
+
+@dataclass(frozen=True)
+class Framing:
+    """A length byte that ends its packet at once: N = 0 (the resync probe when sent to
+    RESYNC_ADDR) or N > MAX_DATA (a framing error). `packets`: what it caused."""
+
+    addr: int
+    n: int
+    packets: list[bytes]
+
+
+@dataclass(frozen=True)
+class PartialDropped:
+    """The inter-byte timeout dropped a partial packet."""
+
+
+@dataclass(frozen=True)
+class CommandDone:
+    """A packet to this module was executed. `pin`: the pin it names (None for a command
+    without one), `was_input`: that pin's direction when the command arrived (None when the
+    pin does not exist), `error`: the message it was refused with (or cmdTooLong after it
+    ran), `packets`: everything it caused, in order."""
+
+    data: tuple[int, ...]
+    pin: int | None
+    was_input: bool | None
+    error: int | None
+    packets: list[bytes]
+
+
+@dataclass(frozen=True)
+class TimerStarted:
+    pin: int
+    run: TimerRun
+
+
+@dataclass(frozen=True)
+class TimerConflict:
+    """A PTIME_RD found `run` still measuring on `pin` (tmrConflict)."""
+
+    pin: int
+    run: TimerRun
+
+
+@dataclass(frozen=True)
+class TimerCompleted:
+    """The measurement `run` on `pin` ended with `result` (0 = timeout); `output` is what it
+    delivers (nothing when it went neither to the host nor to RFLX)."""
+
+    pin: int
+    run: TimerRun
+    result: int
+    output: Output
+
+
+@dataclass(frozen=True)
+class LatchArmed:
+    """DIG_CFG (set) or DIG_RST armed the transition latch of `pin`, configured `cfg`."""
+
+    pin: int
+    cfg: int
+
+
+@dataclass(frozen=True)
+class LatchFired:
+    pin: int
+    cfg: int
+
+
+@dataclass(frozen=True)
+class HeartbeatDue:
+    kind: int
+    packets: list[bytes]
+
+
+@dataclass(frozen=True)
+class HeartbeatSkipped:
+    """A heartbeat fell due while the previous one was not yet sent."""
+
+
+@dataclass(frozen=True)
+class Reset:
+    """Back to the power-up state (rst or cmdRESET)."""
+
+
+Event = (
+    ByteFed | Framing | PartialDropped | CommandDone | TimerStarted | TimerConflict | TimerCompleted
+    | LatchArmed | LatchFired | HeartbeatDue | HeartbeatSkipped | Reset
+)
+Observer = Callable[[Event], None]
+
+
 # --- the model -----------------------------------------------------------------------------
 
 
@@ -257,7 +363,12 @@ class Model:
     def __init__(self, params: Params | None = None, pins: int = 0) -> None:
         self.p = params or Params()
         self.levels = pins
+        self.observers: list[Observer] = []
         self.reset()
+
+    def _tell(self, event: Event) -> None:
+        for observer in self.observers:
+            observer(event)
 
     # ---- state ----
     def reset(self, pins: int | None = None) -> Output:
@@ -279,6 +390,7 @@ class Model:
         self._hb_latest: int | None = None
         self._hb_answered = False
         self.link_up = False
+        self._tell(Reset())
         return Output(packets=[message(p.module_addr, MSG_POWER_RESET)])
 
     def level(self, pin: int) -> int:
@@ -324,23 +436,28 @@ class Model:
         RX_TIMEOUT_US, so tests keep their gaps clear of that window."""
         limit = self.p.rx_timeout_s
         if limit is not None and seconds >= limit:
+            if self._state != "addr":
+                self._tell(PartialDropped())
             self._state = "addr"
 
     def _byte(self, b: int, out: Output) -> None:
         a = self.p.module_addr
+        self._tell(ByteFed(b))
         if self._state == "addr":
             self._addr = b
             self._state = "len"
         elif self._state == "len":
-            if b > MAX_DATA:
-                # Framing error: address and length dropped; the next byte is an address.
-                if self._addr == a:
-                    out.packets.append(message(a, MSG_SERIAL_ERROR))
+            if b > MAX_DATA or b == 0:
+                # N > 8, a framing error: address and length dropped, the next byte is an
+                # address. N = 0: the resync probe when sent to RESYNC_ADDR.
+                caused = []
+                if b and self._addr == a:
+                    caused.append(message(a, MSG_SERIAL_ERROR))
+                elif not b and self._addr == RESYNC_ADDR:
+                    caused.append(packet(a))
+                out.packets += caused
                 self._state = "addr"
-            elif b == 0:
-                if self._addr == RESYNC_ADDR:
-                    out.packets.append(packet(a))
-                self._state = "addr"
+                self._tell(Framing(self._addr, b, caused))
             else:
                 self._n = b
                 self._data = []
@@ -349,33 +466,51 @@ class Model:
             self._data.append(b)
             if len(self._data) == self._n:
                 self._state = "addr"
-                if self._addr == a:
-                    self._execute(self._data, out)
+                self.packet(self._addr, bytes(self._data), out)
+
+    def packet(self, addr: int, data: bytes, out: Output) -> None:
+        """A whole host packet (N >= 1) to `addr`: executed when it is this module's."""
+        if addr == self.p.module_addr:
+            self._execute(data, out)
 
     # ---- commands ----
     def _msg(self, out: Output, code: int) -> None:
         out.packets.append(message(self.p.module_addr, code))
 
+    @staticmethod
+    def pin_of(d: Sequence[int]) -> int | None:
+        """The pin a command names: its pin byte, or the pin field of its DEVCODE."""
+        if d[0] not in CMD_LONGEST or len(d) < 2:
+            return None
+        devcode = d[0] == CMD_PTIME_RD or (d[0] == CMD_DIG_IO and len(d) == 2)
+        return d[1] & DEVCODE_PIN if devcode else d[1]
+
     def _execute(self, d: Sequence[int], out: Output) -> None:
+        before = len(out.packets)
+        pin = self.pin_of(d)
+        was_input = self.is_input(pin) if pin is not None and pin < self.p.num_pins else None
+        error = self._command(d, out)
+        self._tell(CommandDone(tuple(d), pin, was_input, error, out.packets[before:]))
+
+    def _command(self, d: Sequence[int], out: Output) -> int | None:
+        """Runs a command; returns the message it was refused with (or cmdTooLong)."""
         cmd = d[0]
         if cmd == CMD_HB:
             self._hb_answer(d)
-            return
+            return None
         if cmd == CMD_DEBUG:
             out.packets.append(packet(self.p.module_addr, *d))
-            return
+            return None
         if cmd == CMD_RESET:
             # Any N; the power-up message is its answer. What the core had not yet sent is
             # dropped, which the caller's expectations must leave out (DESIGN.md).
             out.extend(self.reset())
-            return
+            return None
         longest = CMD_LONGEST.get(cmd)
-        if longest is None:
-            self._msg(out, MSG_CMD_INVALID)
-            return
-        if len(d) == 1:
-            self._msg(out, MSG_CMD_TOO_SHORT)
-            return
+        if longest is None or len(d) == 1:
+            refused = MSG_CMD_INVALID if longest is None else MSG_CMD_TOO_SHORT
+            self._msg(out, refused)
+            return refused
         handler = {
             CMD_DIG_CFG: self._dig_cfg,
             CMD_DIG_IO: self._dig_io,
@@ -383,10 +518,11 @@ class Model:
             CMD_PTIME_RD: self._ptime_rd,
         }[cmd]
         error = handler(d[:longest], out)
+        if error is None and len(d) > longest:
+            error = MSG_CMD_TOO_LONG
         if error is not None:
             self._msg(out, error)
-        elif len(d) > longest:
-            self._msg(out, MSG_CMD_TOO_LONG)
+        return error
 
     def _dig_cfg(self, d: Sequence[int], out: Output) -> int | None:
         pin = d[1]
@@ -433,14 +569,16 @@ class Model:
         if pin >= self.p.num_pins or not self.p.has_timer(pin) or not self.is_input(pin):
             return MSG_CMD_INDEX_ERR
         if pin in self.timers:
+            self._tell(TimerConflict(pin, self.timers[pin]))
             return MSG_TMR_CONFLICT
         cfg = self.cfg[pin]
-        self.timers[pin] = TimerRun(
+        run = self.timers[pin] = TimerRun(
             host=bool(devcode & DEVCODE_HOST),
             rflx=bool(devcode & DEVCODE_RFLX),
             width=bool(cfg & DIGCFG_TMODE),
             target=int(bool(cfg & DIGCFG_TSTATE)),
         )
+        self._tell(TimerStarted(pin, run))
         return None
 
     # ---- timers ----
@@ -457,6 +595,7 @@ class Model:
             out.packets.append(dev_val(self.p.module_addr, dev_id, result, wide=True))
         if run.rflx:
             out.rflx.append((dev_id, result))
+        self._tell(TimerCompleted(pin, run, result, out))
         return out
 
     def timers_complete(self, results: dict[int, int]) -> Output:
@@ -490,6 +629,7 @@ class Model:
     def _arm(self, pin: int) -> None:
         self.armed[pin] = True
         self.prev[pin] = self.level(pin)
+        self._tell(LatchArmed(pin, self.cfg[pin]))
 
     def _sample(self, pin: int, new: int, out: Output) -> None:
         cfg = self.cfg[pin]
@@ -499,6 +639,7 @@ class Model:
         if new != self.prev[pin] and new == want:
             out.trans.append(pin)
             self.armed[pin] = False
+            self._tell(LatchFired(pin, cfg))
         self.prev[pin] = new
 
     # ---- heartbeat (DESIGN.md 8) ----
@@ -510,13 +651,16 @@ class Model:
         self._hb_next ^= 1
         self._hb_latest = kind
         self._hb_answered = False
-        return Output(packets=[packet(self.p.module_addr, CMD_HB, kind)])
+        out = Output(packets=[packet(self.p.module_addr, CMD_HB, kind)])
+        self._tell(HeartbeatDue(kind, out.packets))
+        return out
 
     def heartbeat_skipped(self) -> Output:
         """A heartbeat falls due while the previous one is not yet sent: no packet, no
         toggle of the type, and it counts as unanswered."""
         self.link_up = False
         self._hb_answered = False
+        self._tell(HeartbeatSkipped())
         return Output()
 
     def _hb_answer(self, d: Sequence[int]) -> None:

@@ -18,8 +18,8 @@ from __future__ import annotations
 import os
 import random
 from collections import deque
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Iterable, Sequence
 
 import cocotb
 from cocotb.clock import Clock
@@ -34,8 +34,13 @@ class TBError(AssertionError):
     """A protocol-rule or model mismatch seen by the testbench."""
 
 
-def _hex(data: Iterable[int]) -> str:
+def hex_bytes(data: Iterable[int]) -> str:
+    """`02 03 1A`: bytes as the logs and failure messages print them."""
     return " ".join(f"{b:02X}" for b in data)
+
+
+# The old private name, still imported by test files under rework elsewhere.
+_hex = hex_bytes
 
 
 @dataclass
@@ -90,12 +95,12 @@ class AxisSource:
         """Send bytes and return once the last is taken: each byte's transfer time. A core
         that stops taking bytes fails the test instead of hanging it."""
         item = self.send_nowait(data, gap_cycles)
-        await self._wait(item.done, timeout_s, f"the core took {{n}} of {len(item.data)} bytes of {_hex(item.data)}", item)
+        await self._wait(item.done, timeout_s, f"the core took {{n}} of {len(item.data)} bytes of {hex_bytes(item.data)}", item)
         return item.times
 
     async def wait_sent(self, item: _Send, timeout_s: float = 20e-3) -> list[float]:
         """Wait for a `send_nowait` to finish (with a timeout, like `send`)."""
-        await self._wait(item.done, timeout_s, f"the core took {{n}} of {len(item.data)} bytes of {_hex(item.data)}", item)
+        await self._wait(item.done, timeout_s, f"the core took {{n}} of {len(item.data)} bytes of {hex_bytes(item.data)}", item)
         return item.times
 
     async def wait_idle(self, timeout_s: float = 100e-3) -> None:
@@ -265,11 +270,11 @@ class AxisSink:
         self._partial.append(byte)
         i = len(self._partial) - 1
         if i == 1 and byte > MAX_DATA:
-            self.tb.fail(f"core sent a packet with N = {byte}: {_hex(self._partial)}")
+            self.tb.fail(f"core sent a packet with N = {byte}: {hex_bytes(self._partial)}")
         want_last = i >= 1 and i == self._partial[1] + 1
         if bool(last) != want_last:
             self.tb.fail(
-                f"m_axis_tlast = {last} on byte {i} of {_hex(self._partial)} "
+                f"m_axis_tlast = {last} on byte {i} of {hex_bytes(self._partial)} "
                 "(must be 1 exactly on byte N+1)"
             )
         if last or want_last:
@@ -444,6 +449,14 @@ class TB:
         """Wait until `n` packets have arrived that new_packets() has not returned yet."""
         return await self.sink.wait_count(self._n_pkt + n, timeout_s)
 
+    def peek_packets(self) -> list[RxPacket]:
+        """The packets new_packets() would return, left for it."""
+        return self.packets[self._n_pkt:]
+
+    def peek_rflx(self) -> list[tuple[float, int, int]]:
+        """The strobes new_rflx() would return, left for it."""
+        return self.rflx[self._n_rflx:]
+
     def new_packets(self) -> list[RxPacket]:
         pk = self.packets[self._n_pkt:]
         self._n_pkt = len(self.packets)
@@ -482,8 +495,8 @@ class TB:
         ctx = f" after {what}" if what else ""
         if got_b != exp.packets:
             raise TBError(
-                f"packets{ctx}: expected [{'; '.join(_hex(p) for p in exp.packets)}] "
-                f"got [{'; '.join(_hex(p) for p in got_b)}]"
+                f"packets{ctx}: expected [{'; '.join(hex_bytes(p) for p in exp.packets)}] "
+                f"got [{'; '.join(hex_bytes(p) for p in got_b)}]"
             )
         rflx_t = self.new_rflx()
         rflx = [(i, d) for _, i, d in rflx_t]
@@ -503,18 +516,18 @@ class TB:
             self.fcov.attach(model)
         exp = model.feed(data)
         await self.source.send(data)
-        return await self.expect(exp, what=_hex(data), **kw)
+        return await self.expect(exp, what=hex_bytes(data), **kw)
 
     async def transact(self, data: Sequence[int], n_replies: int, timeout_s: float = 2e-3,
                        settle_cycles: int = 40) -> list[RxPacket]:
         """Send bytes and wait for `n_replies` packets (exactly: extra ones fail)."""
         await self.source.send(data)
         if not await self.sink.wait_count(self._n_pkt + n_replies, timeout_s):
-            raise TBError(f"timeout waiting for {n_replies} replies to {_hex(data)}")
+            raise TBError(f"timeout waiting for {n_replies} replies to {hex_bytes(data)}")
         await self.cycles(settle_cycles)
         got = self.new_packets()
         if len(got) != n_replies:
-            raise TBError(f"{len(got)} replies to {_hex(data)}, expected {n_replies}")
+            raise TBError(f"{len(got)} replies to {hex_bytes(data)}, expected {n_replies}")
         return got
 
     def check_pins(self, model: Model) -> None:

@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """Functional coverage of the top-level testbench (tb/lib/bsd_tb.py).
 
-Off unless $BSD_FCOV_DIR is set: then every TB gets a `Sampler` (TB.fcov), which wraps the
-reference model the test attaches with `TB.start(model)` and samples only what the core was
-seen to do. A command, a timer result or a heartbeat is a *pending* sample until
+Off unless $BSD_FCOV_DIR is set: then every TB gets a `Sampler` (TB.fcov), which listens to the
+reference model the test attaches with `TB.start(model)` (its `observers`: the model tells what
+it decided as small events) and samples only what the core was seen to do. A command, a timer result or a heartbeat is a *pending* sample until
 - its bytes were accepted by the core (the model's fed byte stream is compared, byte for
   byte, with what the AXI-Stream source saw the core take; a test that sends bytes the model
   was not fed stops the command sampling of that TB until the next reset), and
@@ -32,13 +32,54 @@ This module imports nothing of cocotb at load time, so the report tool can read 
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import json
 import os
 import re
 from collections import Counter
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING
+
+from bsd_model import (
+    ByteFed,
+    CommandDone,
+    Event,
+    Framing,
+    HeartbeatDue,
+    HeartbeatSkipped,
+    LatchArmed,
+    LatchFired,
+    Reset,
+    TimerCompleted,
+    TimerConflict,
+    TimerStarted,
+)
+from bsd_protocol import (
+    CMD_DEBUG,
+    CMD_DIG_CFG,
+    CMD_DIG_IO,
+    CMD_DIG_RST,
+    CMD_HB,
+    CMD_MSG,
+    CMD_PTIME_RD,
+    DIGCFG_ENA,
+    DIGCFG_IODIR,
+    DIGCFG_TRG,
+    MSG_CMD_INDEX_ERR,
+    MSG_CMD_INVALID,
+    MSG_CMD_TOO_LONG,
+    MSG_CMD_TOO_SHORT,
+    MSG_CONFIG_ERR,
+    MSG_SERIAL_ERROR,
+    MSG_TMR_CONFLICT,
+    TICK_HZ,
+    TIMER_MAX_TICKS,
+)
+from bsd_protocol import COMMANDS as COMMAND_TEXT
+from bsd_protocol import MESSAGES as MESSAGE_TEXT
 
 if TYPE_CHECKING:  # pragma: no cover
     from bsd_model import Model, Output
@@ -47,18 +88,12 @@ if TYPE_CHECKING:  # pragma: no cover
 ENV = "BSD_FCOV_DIR"
 FORMAT = 1
 
-# PROTOCOL.md §2, §3 (the numbers are the protocol's; kept here so this module stays free of
-# the testbench's imports).
-_CMD = {26: "DIG_CFG", 27: "DIG_IO", 28: "DIG_RST", 29: "PTIME_RD", 0: "HB", 23: "DEBUG"}
-_PIN_CMDS = (26, 27, 28, 29)
-_MSG = {8: "cmdInvalid", 9: "cmdTooLong", 10: "cmdIndexErr", 15: "tmrConflict",
-        27: "cmdTooShort", 28: "serialError", 29: "configErr"}
-_CMD_MSG = 0x80
-_CMD_DEV_VAL = 4
-_CMD_HB = 0
-_IODIR, _ENA, _TRG, _TSTATE, _TMODE = 0x01, 0x02, 0x04, 0x08, 0x10
-_TICK_S = 1.6e-6
-_TIMEOUT_TICKS = 65_535
+# The commands and messages the coverpoints name, by the protocol table's names.
+_CMD = {c: COMMAND_TEXT[c].removeprefix("cmd") for c in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD, CMD_HB,
+                                                         CMD_DEBUG)}
+_MSG = {c: MESSAGE_TEXT[c] for c in (MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_INDEX_ERR, MSG_TMR_CONFLICT,
+                                     MSG_CMD_TOO_SHORT, MSG_SERIAL_ERROR, MSG_CONFIG_ERR)}
+_TICK_S = 1.0 / TICK_HZ
 
 COMMANDS = ("DIG_CFG", "DIG_IO", "DIG_RST", "PTIME_RD", "HB", "DEBUG", "invalid", "none")
 FORMS = tuple(str(n) for n in range(10))
@@ -124,12 +159,14 @@ def enabled() -> bool:
 
 
 def _current_test() -> str:
-    try:
-        from cocotb import regression  # noqa: PLC0415
+    """The running cocotb test (its main task is named `Test <name>`), for the file name."""
+    with contextlib.suppress(Exception):  # outside a test's own task: no name
+        from cocotb.task import current_task
 
-        return str(regression._manager_inst._test.name)
-    except Exception:  # noqa: BLE001 - a name for the file only
-        return "unknown"
+        name = current_task().get_name()
+        if name.startswith("Test "):
+            return name[len("Test "):]
+    return "unknown"
 
 
 def output_path(directory: Path, test: str, sim: str, pid: int) -> Path:
@@ -158,14 +195,8 @@ def _register_writer(test: str, sim: str, params: str) -> None:
     def write() -> None:
         write_hits(_HITS, directory, _current_test() if test == "unknown" else test, sim, params)
 
-    try:
-        import cocotb._shutdown as shutdown  # noqa: PLC0415 - runs before the simulator exits
-
-        shutdown.register(write)
-    except ImportError:  # pragma: no cover
-        import atexit  # noqa: PLC0415
-
-        atexit.register(write)
+    # The simulator's embedded Python ends through its normal finalisation, which runs atexit.
+    atexit.register(write)
 
 
 @dataclass
@@ -194,7 +225,7 @@ class _Stall:
 
 
 class Sampler:
-    """Attached to one TB: wraps the model given to `attach`, and is told by the TB when an
+    """Attached to one TB: listens to the model given to `attach`, and is told by the TB when an
     `expect` passed (`on_expect`), when the output stalls (`on_pause`) and on reset."""
 
     def __init__(self, tb: TB) -> None:
@@ -210,98 +241,56 @@ class Sampler:
         self._trans: list[tuple[int, str]] = []  # (pin, trg) of model firings not yet verified
         self._stalls: list[_Stall] = []
         self._timer_start: dict[int, float] = {}
-        self._in_done = False
+        self._extra: list[tuple[str, Bin]] = []  # samples of the command being executed
+        self._started: int | None = None  # the timer it started
         sim = "unknown"
-        try:
-            import cocotb  # noqa: PLC0415
+        with contextlib.suppress(Exception):  # outside a simulation: the name stays unknown
+            import cocotb
 
             sim = str(cocotb.SIM_NAME).split()[0].lower()
-        except Exception:  # noqa: BLE001
-            pass
         _register_writer(_current_test(), sim, self.p.to_json())
 
-    # ------------------------------------------------------------- attaching to a model
+    # ------------------------------------------------------------- listening to a model
     def attach(self, model: Model) -> None:
         if self.model is model:
             return
+        if self.model is not None:
+            self.model.observers.remove(self.observe)
         self.model = model
+        model.observers.append(self.observe)
         self._restart()
-        m = model
-        orig_byte, orig_exec = m._byte, m._execute
-        orig_tc, orig_td = m.timer_complete, m.timer_done
-        orig_hb, orig_skip, orig_reset = m.heartbeat_due, m.heartbeat_skipped, m.reset
-        orig_sample = m._sample
 
-        def _byte(b: int, out: Output) -> None:
-            framing = m._state == "len" and m._addr == self.p.module_addr and (b == 0 or b > 8)
-            self._fed.append(b)
-            before = len(out.packets)
-            orig_byte(b, out)
-            if framing:
-                n = "0" if b == 0 else "9"
-                outcome = self._outcome(out.packets[before:])
-                self._add(_Pending("cmd", [("command", ("none", n, outcome, "-"))],
-                                   list(out.packets[before:]), end=len(self._fed) - 1))
-
-        def _execute(d: Sequence[int], out: Output) -> None:
-            before = len(out.packets)
-            pre = self._pre_command(d)
-            orig_exec(d, out)
-            self._post_command(d, out.packets[before:], pre)
-
-        def timer_complete(pin: int, result: int) -> Output:
-            run = m.timers.get(pin)
-            out = orig_tc(pin, result)
-            if run is not None and not self._in_done and (run.host or run.rflx):
-                outcome = "timeout" if result == 0 else "result_1" if result == 1 else "completed"
-                ready = None
-                start = self._timer_start.get(pin)
-                if not run.width and start is not None:
-                    ready = start + (result or _TIMEOUT_TICKS) * _TICK_S
-                self._add(_Pending("timer", [("timer", (self._mode(run.width), str(run.target), outcome))],
-                                   list(out.packets) + list(out.rflx), ready=ready))
-                self._timer_start.pop(pin, None)
-            return out
-
-        def timer_done(pin: int) -> None:
-            self._in_done = True
-            try:
-                orig_td(pin)
-            finally:
-                self._in_done = False
-                self._timer_start.pop(pin, None)
-
-        def heartbeat_due() -> Output:
-            out = orig_hb()
-            self._add(_Pending("hb", [], list(out.packets), ready=self._hb_due_time()))
-            return out
-
-        def heartbeat_skipped() -> Output:
-            out = orig_skip()
+    def observe(self, ev: Event) -> None:
+        """What the model decided (bsd_model's events), turned into pending samples."""
+        if isinstance(ev, ByteFed):
+            self._fed.append(ev.value)
+        elif isinstance(ev, Framing):
+            if ev.addr == self.p.module_addr:
+                n = "0" if ev.n == 0 else "9"
+                outcome = self._outcome(ev.packets[0] if ev.packets else None)
+                self._add(_Pending("cmd", [("command", ("none", n, outcome, "-"))], list(ev.packets),
+                                   end=len(self._fed) - 1))
+        elif isinstance(ev, CommandDone):
+            self._command(ev)
+        elif isinstance(ev, TimerStarted):
+            self._started = ev.pin
+        elif isinstance(ev, TimerConflict):
+            self._extra.append(("timer", (self._mode(ev.run.width), str(ev.run.target), "conflict")))
+        elif isinstance(ev, LatchArmed):
+            if ev.cfg & DIGCFG_IODIR and ev.cfg & DIGCFG_ENA:
+                self._extra.append(("latch", (self._trg(ev.cfg), "rearmed")))
+        elif isinstance(ev, LatchFired):
+            self._trans.append((ev.pin, self._trg(ev.cfg)))
+        elif isinstance(ev, TimerCompleted):
+            self._timer_completed(ev)
+        elif isinstance(ev, HeartbeatDue):
+            self._add(_Pending("hb", [], list(ev.packets), ready=self._hb_due_time()))
+        elif isinstance(ev, HeartbeatSkipped):
             for st in self._stalls:
                 if st.t1 is None:
                     st.skipped.append(self._hb_due_time())
-            return out
-
-        def reset(pins: int | None = None) -> Output:
-            out = orig_reset(pins)
+        elif isinstance(ev, Reset):
             self._restart()
-            return out
-
-        def _sample(pin: int, new: int, out: Output) -> None:
-            n = len(out.trans)
-            orig_sample(pin, new, out)
-            if len(out.trans) > n:
-                self._trans.append((pin, self._trg(m.cfg[pin])))
-
-        m._byte = _byte  # type: ignore[method-assign]
-        m._execute = _execute  # type: ignore[method-assign]
-        m.timer_complete = timer_complete  # type: ignore[method-assign]
-        m.timer_done = timer_done  # type: ignore[method-assign]
-        m.heartbeat_due = heartbeat_due  # type: ignore[method-assign]
-        m.heartbeat_skipped = heartbeat_skipped  # type: ignore[method-assign]
-        m.reset = reset  # type: ignore[method-assign]
-        m._sample = _sample  # type: ignore[method-assign]
 
     def _restart(self) -> None:
         """A reset (of the TB or the model): both byte streams start again."""
@@ -324,62 +313,53 @@ class Sampler:
 
     @staticmethod
     def _trg(cfg: int) -> str:
-        return "rise" if cfg & _TRG else "fall"
+        return "rise" if cfg & DIGCFG_TRG else "fall"
 
-    def _outcome(self, packets: Sequence[bytes]) -> str:
-        if not packets:
+    @staticmethod
+    def _outcome(first: bytes | None, error: int | None = None) -> str:
+        """A command's outcome: the message it was refused with, else whether it answered."""
+        if error is not None:
+            return _MSG.get(error, "reply")
+        if first is None:
             return "none"
-        pk = packets[0]
-        if len(pk) == 4 and pk[2] == _CMD_MSG:
-            return _MSG.get(pk[3], "reply")
+        if len(first) == 4 and first[2] == CMD_MSG:
+            return _MSG.get(first[3], "reply")
         return "reply"
 
-    def _pin_of(self, d: Sequence[int]) -> int | None:
-        cmd = d[0]
-        if cmd not in _PIN_CMDS or len(d) < 2:
-            return None
-        devcode = cmd == 29 or (cmd == 27 and len(d) == 2)
-        return d[1] & 0x3F if devcode else d[1]
-
-    def _kinds(self, pin: int | None) -> list[str]:
-        m, p = self.model, self.p
-        assert m is not None
+    def _kinds(self, pin: int | None, was_input: bool | None) -> list[str]:
+        p = self.p
         if pin is None:
             return ["-"]
-        if pin >= p.num_pins:
+        if was_input is None:
             return ["out_of_range"]
-        kinds = ["input" if m.is_input(pin) else "output", "timer" if p.has_timer(pin) else "no_timer"]
+        kinds = ["input" if was_input else "output", "timer" if p.has_timer(pin) else "no_timer"]
         if p.is_fixed(pin):
             kinds.append("fixed")
         return kinds
 
-    def _pre_command(self, d: Sequence[int]) -> tuple[str, int | None, list[str], Any]:
-        cmd = _CMD.get(d[0], "invalid")
-        pin = self._pin_of(d)
-        run = self.model.timers.get(pin) if self.model is not None and pin is not None else None
-        return cmd, pin, self._kinds(pin), run
-
-    def _post_command(self, d: Sequence[int], packets: Sequence[bytes], pre: tuple) -> None:
-        cmd, pin, kinds, run = pre
-        m = self.model
-        assert m is not None
-        outcome = self._outcome(packets)
-        n = str(len(d))
-        hits: list[tuple[str, Bin]] = [("command", (cmd, n, outcome, k)) for k in kinds]
+    def _command(self, ev: CommandDone) -> None:
+        cmd = _CMD.get(ev.data[0], "invalid")
+        outcome = self._outcome(ev.packets[0] if ev.packets else None, ev.error)
+        hits: list[tuple[str, Bin]] = [("command", (cmd, str(len(ev.data)), outcome, k))
+                                       for k in self._kinds(ev.pin, ev.was_input)]
+        hits += self._extra
         on_commit: Callable[[float], None] | None = None
-        ok = outcome in ("none", "cmdTooLong")
-        if cmd == "PTIME_RD" and pin is not None:
-            if outcome == "tmrConflict" and run is not None:
-                hits.append(("timer", (self._mode(run.width), str(run.target), "conflict")))
-            elif ok:
-                def on_commit(t: float, pin: int = pin) -> None:
-                    self._timer_start[pin] = t
-        if ok and pin is not None and pin < self.p.num_pins and (
-                cmd == "DIG_RST" or (cmd == "DIG_CFG" and len(d) >= 3)):
-            cfg = m.cfg[pin]
-            if cfg & _IODIR and cfg & _ENA:
-                hits.append(("latch", (self._trg(cfg), "rearmed")))
-        self._add(_Pending("cmd", hits, list(packets), end=len(self._fed) - 1, on_commit=on_commit))
+        if self._started is not None:
+            def on_commit(t: float, pin: int = self._started) -> None:
+                self._timer_start[pin] = t
+        self._extra, self._started = [], None
+        self._add(_Pending("cmd", hits, list(ev.packets), end=len(self._fed) - 1, on_commit=on_commit))
+
+    def _timer_completed(self, ev: TimerCompleted) -> None:
+        start = self._timer_start.pop(ev.pin, None)
+        if not (ev.run.host or ev.run.rflx):
+            return
+        outcome = "timeout" if ev.result == 0 else "result_1" if ev.result == 1 else "completed"
+        ready = None
+        if not ev.run.width and start is not None:
+            ready = start + (ev.result or TIMER_MAX_TICKS) * _TICK_S
+        self._add(_Pending("timer", [("timer", (self._mode(ev.run.width), str(ev.run.target), outcome))],
+                           list(ev.output.packets) + list(ev.output.rflx), ready=ready))
 
     def _hb_due_time(self) -> float:
         period = self.p.hb_period_s or 0.0
@@ -473,7 +453,7 @@ class Sampler:
                 continue
             t = st.t1
 
-            def waiting(kind: str, slack: float = 0.0) -> bool:
+            def waiting(kind: str, slack: float = 0.0, t: float = t) -> bool:
                 return any(v.kind == kind and v.ready is not None and v.ready + slack < t <= v.t_first
                            for v in verified)
 

@@ -29,9 +29,9 @@ import random
 import re
 import sys
 import time
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, Mapping, Sequence
 from xml.etree import ElementTree
 
 from cocotb_tools.runner import get_runner
@@ -126,7 +126,7 @@ def test_args() -> dict[str, object]:
 
 
 # Test modules import test_args by name: not a pytest test.
-test_args.__test__ = False  # type: ignore[attr-defined]
+test_args.__test__ = False  # type: ignore[attr-defined]  # pytest reads this attribute of a function
 
 
 def build_name(parameters: Mapping[str, object]) -> str:
@@ -236,7 +236,7 @@ def _have_lz4() -> bool:
     import subprocess
 
     probe = subprocess.run(["c++", "-E", "-x", "c++", "-"], input="#include <lz4.h>\n",
-                           capture_output=True, text=True)
+                           capture_output=True, text=True, check=False)
     return probe.returncode == 0
 
 

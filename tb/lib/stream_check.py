@@ -13,6 +13,7 @@ middle of a clock must not move them.
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Mapping
 
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
@@ -23,7 +24,7 @@ class StreamTB(ClockedTB):
     """step() also pokes m_axis_tready within its clock (the flop-only check), so it is its
     own; the base class gives the clock, the reset and the seeded rng."""
 
-    INPUTS = {"s_axis_tvalid": 0, "s_axis_tdata": 0, "m_axis_tready": 0}
+    INPUTS: Mapping[str, int] = {"s_axis_tvalid": 0, "s_axis_tdata": 0, "m_axis_tready": 0}
 
     def __init__(self, dut, width: int, capacity: int) -> None:
         super().__init__(dut, f"{dut._name} w{width} c{capacity}")

@@ -31,9 +31,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Mapping, Sequence
 
 import cocotb
 import pytest
@@ -152,9 +152,7 @@ class Suite:
                         group += "-" + hashlib.sha1(text.encode()).hexdigest()[:8]
                     case = Case(sim, b, e.name, args, group)
                     marks = [pytest.mark.xdist_group(group)]
-                    if e.deep is not None and e.deep(sim, b):
-                        marks.append(pytest.mark.deep)
-                    elif self.quick is not None and not self.quick(sim, b, e.name):
+                    if e.deep is not None and e.deep(sim, b) or self.quick is not None and not self.quick(sim, b, e.name):
                         marks.append(pytest.mark.deep)
                     else:
                         in_quick += 1

@@ -28,7 +28,7 @@ from bsd_model import (
     timer_completion,
     timer_interval,
 )
-from bsd_tb import TB, TBError, _hex
+from bsd_tb import TB, TBError, hex_bytes
 
 P = Params.from_env()
 A = P.module_addr
@@ -78,12 +78,12 @@ def timer_value(tb: TB, m: Model, pin: int) -> int | None:
     run = m.timer_run(pin)
     tid = P.timer_id(pin)
     if run.host:
-        for pk in tb.packets[tb._n_pkt:]:
+        for pk in tb.peek_packets():
             d = pk.data
             if len(d) == 6 and d[2] == CMD_DEV_VAL and d[3] == tid:
                 return d[4] << 8 | d[5]
     if run.rflx:
-        for _, i, v in tb.rflx[tb._n_rflx:]:
+        for _, i, v in tb.peek_rflx():
             if i == tid:
                 return v
     return None
@@ -114,7 +114,7 @@ async def start_timer(tb: TB, m: Model, pin: int, flags: int, rel_wave: list[tup
     t0 = (await tb.source.send(pkt))[-1]
     wave = [(0.0, tb.pins >> pin & 1)] + [(t0 + dt, lvl) for dt, lvl in rel_wave]
     tb.drive_waveform(pin, wave[1:])
-    await tb.expect(exp, settle_cycles=4, what=_hex(pkt))
+    await tb.expect(exp, settle_cycles=4, what=hex_bytes(pkt))
     return t0, wave
 
 

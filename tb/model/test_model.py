@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import pytest
 
+import bsd_model
 from bsd_model import (
     CMD_DEBUG,
     CMD_DIG_CFG,
@@ -474,3 +475,43 @@ def test_heartbeat_link_up() -> None:
     assert not m.link_up  # the DOWN one was never answered
     m.heartbeat_skipped()
     assert pk(m.heartbeat_due()) == [H("02020001")]
+
+
+# ---- observers: what the model tells functional coverage and the host's fake module ----
+
+
+def test_observers_hear_each_decision_in_order() -> None:
+    """A PTIME_RD that starts a timer, one that conflicts with it, an out-of-range DIG_IO,
+    a framing error, the timer's completion and a cmdRESET, each told as it is decided, with
+    the very packet objects the model returns."""
+    m = Model(pins=0b11110)
+    heard: list[bsd_model.Event] = []
+    m.observers.append(heard.append)
+
+    def command_events() -> list[bsd_model.Event]:
+        return [e for e in heard if not isinstance(e, bsd_model.ByteFed)]
+
+    start = packet(2, CMD_PTIME_RD, DEVCODE_HOST | 4)
+    assert not m.feed(start)
+    assert [e.value for e in heard if isinstance(e, bsd_model.ByteFed)] == list(start)
+    run = m.timer_run(4)
+    assert command_events() == [bsd_model.TimerStarted(4, run),
+                                bsd_model.CommandDone(tuple(start[2:]), 4, True, None, [])]
+    heard.clear()
+    out = m.feed(packet(2, CMD_PTIME_RD, DEVCODE_HOST | 4))
+    done = command_events()
+    assert done[0] == bsd_model.TimerConflict(4, run)
+    assert done[1].error == MSG_TMR_CONFLICT and done[1].packets[0] is out.packets[0]
+    heard.clear()
+    m.feed(packet(2, CMD_DIG_IO, 9, 1))
+    assert command_events() == [bsd_model.CommandDone((CMD_DIG_IO, 9, 1), 9, None, MSG_CMD_INDEX_ERR,
+                                                      [message(2, MSG_CMD_INDEX_ERR)])]
+    heard.clear()
+    out = m.feed(bytes([2, 9]))
+    assert command_events() == [bsd_model.Framing(2, 9, out.packets)]
+    heard.clear()
+    out = m.timer_complete(4, 77)
+    assert heard == [bsd_model.TimerCompleted(4, run, 77, out)]
+    heard.clear()
+    out = m.feed(packet(2, CMD_RESET))
+    assert command_events() == [bsd_model.Reset(), bsd_model.CommandDone((CMD_RESET,), None, None, None, out.packets)]

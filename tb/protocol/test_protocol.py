@@ -72,10 +72,10 @@ def test_check_fails_on_a_stale_file(tree: Path) -> None:
     assert run_gen("--check", "--root", str(tree)).returncode == 0
     vh = tree / "rtl" / "bsd_protocol.vh"
     vh.write_text(vh.read_text().replace("8'd26;", "8'd25;"))  # an edit by hand
-    (tree / "host" / "brainstem_dio" / "_protocol_table.py").unlink()
+    (tree / "host" / "brainstem_dio" / "protocol_table.py").unlink()
     run = run_gen("--check", "--root", str(tree))
     assert run.returncode == 1
-    assert "rtl/bsd_protocol.vh (differs" in run.stderr and "host/brainstem_dio/_protocol_table.py (missing)" in run.stderr
+    assert "rtl/bsd_protocol.vh (differs" in run.stderr and "host/brainstem_dio/protocol_table.py (missing)" in run.stderr
     assert "sim/bsd_protocol.h" not in run.stderr
     # regenerating repairs both
     assert run_gen("--root", str(tree), "-q").returncode == 0
