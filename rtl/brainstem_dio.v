@@ -426,13 +426,15 @@ module brainstem_dio #(
     // At most two events per timer (reference, finish) wait before its result
     // is delivered, one reply and one heartbeat; DIG_IO RFLX values come one
     // per command (4 clocks at least) and the drain takes an item a clock:
-    // 256 entries never overflow (docs/DESIGN.md). An entry skips the queue when
-    // nothing waits in it and the drain is free (2 clocks less latency).
+    // 256 entries never overflow (docs/DESIGN.md). An entry without timer
+    // events (a reply, a DIG_IO value, a heartbeat) skips the queue when
+    // nothing waits in it and the drain is free: 2 clocks less latency, and
+    // the mux is only as wide as those fields.
     wire          evq_ready, evq_valid, evq_empty, drain_free;
     wire [EW-1:0] evq_data;
     wire          ev_new   = ev_any || rep_new || dio_rflx_new || hb_new_q;
     wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_new, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
-    wire          ev_skip  = evq_empty && drain_free;
+    wire          ev_skip  = evq_empty && drain_free && !ev_any;
 
     bsd_fifo #(.WIDTH(EW), .DEPTH(256)) u_evq (
         .clk           (clk),
@@ -457,8 +459,8 @@ module brainstem_dio #(
     ) u_drain (
         .clk           (clk),
         .rst           (rst),
-        .ev_valid_i    (evq_valid || (evq_empty && ev_new)),
-        .ev_data_i     (evq_valid ? evq_data : ev_entry),
+        .ev_valid_i    (evq_valid || (evq_empty && ev_new && !ev_any)),
+        .ev_data_i     (evq_valid ? evq_data : {{(EW-26){1'b0}}, ev_entry[25:0]}),
         .ev_ready_o    (drain_free),
         .host_pend_i   (timer_host_pend),
         .rflx_pend_i   (timer_rflx_pend),

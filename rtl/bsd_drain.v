@@ -67,6 +67,18 @@ module bsd_drain #(
         end
     endfunction
     localparam [6*NT-1:0] IDS = id_table(0);
+    // Timer IDs that rise by one from timer 0's (timers on consecutive pins, GP 1.0's
+    // and any full build's) are an addition, not a table.
+    function contiguous(input integer unused);
+        integer t;
+        begin
+            contiguous = 1'b1;
+            for (t = 1; t < NT; t = t + 1)
+                if (IDS[6*t +: 6] != IDS[6*(t-1) +: 6] + 6'd1) contiguous = 1'b0;
+        end
+    endfunction
+    localparam       CONTIG = contiguous(0);
+    localparam [5:0] ID0    = IDS[5:0];
 
     // The pins of bit b of an index, for the one-hot to index encoder (word
     // operations, not a loop over the pins).
@@ -107,7 +119,7 @@ module bsd_drain #(
         end
     endgenerate
     // The DIG_IO value goes first when its ID is below the lowest waiting timer's.
-    wire [5:0]          k_id      = IDS[6*k +: 6];
+    wire [5:0]          k_id      = CONTIG ? ID0 + k : IDS[6*k +: 6];
     wire                dio_first = dio_q && (!any_t || dio_id_q < k_id);
     wire                take_t    = any_t && !dio_first;
     wire                take_dio  = dio_first;

@@ -14,10 +14,11 @@
 // timeout is seen in time.
 //
 // Races: a start clears the timer's inserted bit (a wheel bit of an earlier
-// run then never counts), and a scan that may have read the start of the
-// previous run (a start on the scan's read clock or the clock before) does
-// not insert. After reset every slot is cleared once (64 clocks), long
-// before any timeout can be due.
+// run then never counts), and a scan that may have read the start of a
+// previous run (any start on the scan's read clock or the clock before: a
+// lap then takes at most twice as long) does not insert. The wheel needs no
+// clearing after reset: every slot is read and cleared within 64 ticks,
+// long before any timer can be inserted (62 ticks before its timeout).
 module bsd_timeout_wheel #(
     parameter integer NUM_TIMERS = 4
 ) (
@@ -94,19 +95,17 @@ module bsd_timeout_wheel #(
     reg                tick1_q;   // the clock after a tick: read the next slot
     reg                tick2_q;   // the clock after that: take it and clear it
     reg [5:0]          slot_q;    // the slot read
-    reg                sweep_q;   // clearing every slot after reset
-    reg [5:0]          sweep_idx_q;
     reg [NUM_TIMERS-1:0] expire_q;
 
     // A tick now makes T = t_i + 1: the next tick's timeouts (T = t_i + 2)
     // are of the timers started at t_i + 3, slot t_i + 3.
     wire [5:0]          next_slot = t_i[5:0] + 6'd3;
-    // The write port: clearing (the sweep, or the slot just read) comes first;
-    // a candidate that loses is inserted on the scanner's next lap.
-    wire                clear  = sweep_q || tick2_q;
+    // The write port: clearing the slot just read comes first; a candidate
+    // that loses is inserted on the scanner's next lap.
+    wire                clear  = tick2_q;
     wire                insert = cand && !clear;
     wire                w_en   = clear || insert;
-    wire [5:0]          w_addr = sweep_q ? sweep_idx_q : tick2_q ? slot_q : st_rd_q[5:0];
+    wire [5:0]          w_addr = clear ? slot_q : st_rd_q[5:0];
     wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan2_q);
     wire                w_bit  = !clear;
 
@@ -127,18 +126,14 @@ module bsd_timeout_wheel #(
         st_idx_q <= start_idx;
         scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
         scan2_q  <= scan_q;
-        // The start read now is the previous run's when the new one is
+        // The start read now may be a previous run's when a new one is
         // written now (st_q) or next clock (start_any).
-        stale_q  <= (st_q && st_idx_q == scan_q) || (start_any && start_idx == scan_q);
+        stale_q  <= st_q || start_any;
         ins_q    <= ((ins_q | (insert ? (ONE << scan2_q) : NONE)) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
         if (tick2_q) expire_q <= slot_rd_q & ins_q;
-        if (sweep_q) begin
-            sweep_idx_q <= sweep_idx_q + 6'd1;
-            if (sweep_idx_q == 6'd63) sweep_q <= 1'b0;
-        end
         if (rst) begin
             st_q        <= 1'b0;
             scan_q      <= 6'd0;
@@ -149,8 +144,6 @@ module bsd_timeout_wheel #(
             tick2_q     <= 1'b0;
             slot_q      <= 6'd3;
             expire_q    <= NONE;
-            sweep_q     <= 1'b1;
-            sweep_idx_q <= 6'd0;
         end
     end
 
