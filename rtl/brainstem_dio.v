@@ -518,5 +518,17 @@ module brainstem_dio #(
     // The queues never fill (sized above), and the heartbeat's request is
     // followed through its item.
     wire unused_top = ^{evq_ready, outq_ready, tx_take, hb_req, rep_req};
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block
+    // The sizing argument above, checked in every simulation: no entry or item is refused.
+    always @(posedge clk) begin
+        if (!rst && ev_new && !ev_skip && !evq_ready)
+            $fatal(1, "brainstem_dio: the event queue is full (an entry would be lost)");
+        if (!rst && order_valid && !out_skip && !outq_ready)
+            $fatal(1, "brainstem_dio: the output queue is full (a packet would be lost)");
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

@@ -75,6 +75,7 @@ module bsd_timeout_wheel #(
     reg  [5:0]  scan2_q;      // stage 2: its start is in st_rd_q
     reg         stale_q;      // stage 2: the start read may be an earlier run's
     reg  [15:0] st_rd_q;
+    wire        advance;      // the scanner moves on (it stalls while its insert waits)
     // The timeout is at T = T_start - 1: 3..62 ticks away when T_start - T is 4..63.
     wire [15:0] ahead    = st_rd_q - t_i;
     wire        in_win   = ahead[15:6] == 10'd0 && ahead[5:2] != 4'd0;
@@ -85,7 +86,7 @@ module bsd_timeout_wheel #(
     wire        cand     = !stale_q && run64[scan2_q] && !ins64[scan2_q] && in_win;
 
     always @(posedge clk) begin
-        st_rd_q <= st_mem[scan_q];
+        if (advance) st_rd_q <= st_mem[scan_q];
     end
 
     // ---------------------------------------------------------------- wheel
@@ -101,9 +102,12 @@ module bsd_timeout_wheel #(
     // are of the timers started at t_i + 3, slot t_i + 3.
     wire [5:0]          next_slot = t_i[5:0] + 6'd3;
     // The write port: clearing the slot just read comes first; a candidate
-    // that loses is inserted on the scanner's next lap.
+    // that loses waits a clock (the scanner stalls): a lap that is a multiple
+    // of the tick pattern's period (64 timers at 2 MHz: 16 clocks) would
+    // otherwise meet the clearing clock at the same timers on every lap.
     wire                clear  = tick2_q;
     wire                insert = cand && !clear;
+    assign              advance = !(cand && clear);
     wire                w_en   = clear || insert;
     wire [5:0]          w_addr = clear ? slot_q : st_rd_q[5:0];
     wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan2_q);
@@ -124,11 +128,14 @@ module bsd_timeout_wheel #(
     always @(posedge clk) begin
         st_q     <= start_any;
         st_idx_q <= start_idx;
-        scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
-        scan2_q  <= scan_q;
+        if (advance) begin
+            scan_q  <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
+            scan2_q <= scan_q;
+        end
         // The start read now may be a previous run's when a new one is
         // written now (st_q) or next clock (start_any).
-        stale_q  <= st_q || start_any;
+        // A stall keeps the candidate: it stays stale if it was.
+        stale_q  <= st_q || start_any || (!advance && stale_q);
         ins_q    <= ((ins_q | (insert ? (ONE << scan2_q) : NONE)) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
