@@ -84,29 +84,41 @@ $(SIM_BIN): $(SIM_DEPS) | $(STAMP)
 
 sim-build: $(SIM_BIN)
 
-# The runner's path for these parameters (tb/test_session.py asks for it).
+# The runner's path for these parameters (tb/session/test_session.py asks for it).
 sim-path:
 	@echo $(SIM_BIN)
 
-# The benchmark's harness: the same runner without tracing, for raw speed, always GP 1.0.
-BENCH_DIR := sim/build/bench
-$(BENCH_DIR)/session: $(SIM_DEPS) | $(STAMP)
-	@mkdir -p $(BENCH_DIR)
+# The benchmark's harnesses: the same runner without tracing, for raw speed: GP 1.0
+# (BSD_DEFAULT_*), and 64 pins with a timer on each (BENCH64_*, Callgrind only).
+BENCH_DIR   := sim/build/bench
+BENCH64_DIR := sim/build/bench64
+BENCH64_CLK_HZ := $(BSD_DEFAULT_CLK_HZ)
+BENCH64_MODULE_ADDR := $(BSD_DEFAULT_MODULE_ADDR)
+BENCH64_NUM_PINS := 64
+BENCH64_TIMER_MASK := 18446744073709551615
+BENCH64_PIN_ID_BASE := 0
+BENCH64_TIMER_ID_BASE := 0
+BENCH64_TRANS_ID_BASE := 0
+$(BENCH_DIR)/session: BENCH_VARS := BSD_DEFAULT_
+$(BENCH64_DIR)/session: BENCH_VARS := BENCH64_
+$(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
+	@mkdir -p $(@D)
 	@$(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --x-assign fast --x-initial fast \
-		--noassert --quiet-stats -Irtl --top-module brainstem_dio $(call sim_flags,BSD_DEFAULT_) -CFLAGS -O2 \
-		-MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2" \
-		-Mdir $(BENCH_DIR) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(BENCH_DIR).log 2>&1 \
-		|| { cat $(BENCH_DIR).log; exit 1; }
+		--noassert --quiet-stats -Irtl --top-module brainstem_dio $(call sim_flags,$(BENCH_VARS)) -CFLAGS -O2 \
+		-MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2" $(PCH_FIX) \
+		-Mdir $(@D) -o session $(RTL) $(CURDIR)/sim/session.cpp > $(@D).log 2>&1 \
+		|| { cat $(@D).log; exit 1; }
 
-bench-build: $(BENCH_DIR)/session
+bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 
-# Speed of each simulator, Callgrind breakdown, and the virtual
+# Speed of each simulator, Callgrind's instructions per clock (GP 1.0 with its breakdown, and
+# 64 pins x 64 timers), and the virtual
 # module's ratio to real time (sim/virtual_bench.py: 2/12/48 MHz x 9600/115200 baud) -> the
 # generated regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-callgrind";
 # VIRTUAL_BENCH_ARGS: e.g. "--seconds 1".
 BENCH_ARGS ?=
 VIRTUAL_BENCH_ARGS ?=
-bench: $(BENCH_DIR)/session
+bench: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 	@$(WITH_VERILATOR) $(VPY) sim/bench.py $(BENCH_ARGS)
 	@$(WITH_VERILATOR) $(VPY) sim/virtual_bench.py --write docs/benchmarks.md $(VIRTUAL_BENCH_ARGS)
 
@@ -116,7 +128,7 @@ sim: $(SIM_BIN)
 # make virtual [CLK_HZ=hz] [BAUD=9600] [HB_RATE=10] [the sim's other parameters] [WAVES=1]:
 # brainstem_dio_uart (the board's RTL) behind a pseudo-terminal, in step with the wall clock
 # (sim/virtual.cpp). It prints `port: /dev/pts/N` and keeps the symlink sim/build/virtual/port
-# to it while it runs; stdin takes pin/wait/reset/noise/quit lines, stdout is the transcript.
+# to it while it runs; stdin takes pin/wait/reset/noise/ber/stats/quit lines, stdout is the transcript.
 # The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
 # CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
 # sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
@@ -150,11 +162,24 @@ virtual-build: $(VIRTUAL_BIN)
 virtual-path:
 	@echo $(VIRTUAL_BIN)
 
+# BER=P: line noise, each bit on both lines flipped with probability P (stdin: ber P, stats);
+# SEED=N: the noise's seed (printed at start), to repeat a run.
 virtual: $(VIRTUAL_BIN)
-	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port $(if $(WAVES),--wave $(VIRTUAL_WAVE))
+	@$(VIRTUAL_BIN) --link $(VIRTUAL_ROOT)/port$(if $(WAVES), --wave $(VIRTUAL_WAVE))$(if $(BER), --ber $(BER))$(if $(SEED), --seed $(SEED))
+
+# The noise soak (sim/soak.py): the host library against the virtual module (2 MHz, 115200 baud,
+# heartbeat on; its own build) with line noise: a quiet baseline, random calls at BER 1e-4 and
+# 1e-3 against a shadow model, then the noise off and a functional check; fails on a call past
+# its bound, an exception outside BrainStemError, a dead reader thread, a link not answering
+# within 2 s, or a failed check. -> the `soak` region of docs/benchmarks.md. A few minutes.
+# SOAK_ARGS: e.g. "--seed 7 --calls 500" (sim/soak.py --help).
+SOAK_ARGS ?=
+.PHONY: soak
+soak: $(STAMP)
+	@$(VPY) sim/soak.py --write docs/benchmarks.md $(SOAK_ARGS)
 
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
-# the files); protocol-check only reports stale ones (tb/test_protocol.py runs it too).
+# the files); protocol-check only reports stale ones (tb/protocol/test_protocol.py runs it too).
 protocol:
 	@$(PYTHON) tools/gen_protocol.py
 
@@ -167,9 +192,10 @@ $(SYNTH_STAMP): synth/requirements.txt | $(STAMP)
 	$(VPY) -m pip install -q -r synth/requirements.txt
 	touch $@
 
-# BOARD=icebreaker (iCE40UP5K, the default) | ulx3s (ECP5 LFE5U-85F) | tangnano9k (Gowin GW1NR-9)
+# BOARD=icebreaker (iCE40UP5K, the default) | ulx3s (ECP5 LFE5U-85F) | tangnano9k (Gowin GW1NR-9);
+# for make bitstream also icebreaker24 (the iCEBreaker with a timer on each of its 24 PMOD pins)
 BOARD ?= icebreaker
-BOARDS := icebreaker ulx3s tangnano9k
+BOARDS := icebreaker icebreaker24 ulx3s tangnano9k
 check_board = $(if $(filter $(BOARD),$(BOARDS)),,$(error BOARD=$(BOARD): one of $(BOARDS)))
 
 # yosys + nextpnr per design of BOARD's FPGA family and seed -> synth/build/<design>/seed<N>.json,
@@ -180,7 +206,8 @@ synth: $(SYNTH_STAMP)
 	$(call check_board)
 	$(VPY) synth/synth.py --board $(BOARD) $(SYNTH_ARGS)
 
-# BOARD's bitstream -> synth/build/<board>/<board>.bin (iCE40), .bit (ECP5), .fs (Gowin)
+# BOARD's bitstream -> synth/build/<board>/<board>.bin (iCE40), .bit (ECP5), .fs (Gowin);
+# it fails, saying so, if the design does not fit the board's FPGA
 bitstream: $(SYNTH_STAMP)
 	$(call check_board)
 	$(VPY) synth/synth.py --bitstream --board $(BOARD)

@@ -16,6 +16,11 @@
 //   than F_STALL_MAX clocks in a row (outside reset);
 // - rflx_valid is a one-clock strobe per value: two strobes on consecutive clocks carry
 //   different device IDs (a value is never strobed twice).
+// With F_RESET (the reset task; no RX timeout, so the host-side framing below is exact),
+// cmdRESET: the reset takes effect 3 clocks after the command's last byte; a packet with a
+// byte taken by then is finished, and the next packet out is the power-up message (the
+// offered first byte of a packet with none taken included); the clock after the reset
+// every pin is an input again and no RFLX strobe comes.
 module brainstem_dio_top (
     input  wire       clk,
     input  wire       rst,
@@ -35,6 +40,11 @@ module brainstem_dio_top (
     // N = 8): its last byte leaves by r + 18, the hold clears on r + 19. So at most 19
     // clocks in a row (with NUM_PINS timers and a heartbeat: 3 + 6 * timers + 4 + 10).
     localparam integer F_STALL_MAX = 19;
+`ifdef F_RESET
+    localparam integer F_RX_TIMEOUT_US = 0;
+`else
+    localparam integer F_RX_TIMEOUT_US = 4;
+`endif
 
     wire       s_axis_tready;
     wire [7:0] m_axis_tdata;
@@ -55,7 +65,7 @@ module brainstem_dio_top (
         .TIMER_ID_BASE (10),
         .TRANS_ID_BASE (15),
         .POLL_HZ       (0),
-        .RX_TIMEOUT_US (4),
+        .RX_TIMEOUT_US (F_RX_TIMEOUT_US),
         .HB_RATE       (0)
     ) dut (
         .clk(clk), .rst(rst),
@@ -133,6 +143,69 @@ module brainstem_dio_top (
             if (rflx_valid && f_rv_q) assert(rflx_id != f_rid_q);
         end
     end
+
+`ifdef F_RESET
+    // The host's packets as the parser frames them, and the clocks since the last byte of
+    // a cmdRESET (f_since 3 = the reset's clock).
+    reg  [1:0] f_hst;        // 0 address, 1 length, 2 data
+    reg        f_hown, f_hd0_seen;
+    reg  [3:0] f_hleft;
+    reg  [7:0] f_hd0;
+    reg  [2:0] f_since;      // 0: no cmdRESET yet; saturates at 7
+    reg        f_pu;         // the power-up message is due
+    reg        f_keep;       // a packet partly sent at the reset is still going out
+    wire [7:0] f_hd0_now = f_hd0_seen ? f_hd0 : s_axis_tdata;
+    wire       f_rcmd = f_shs && f_hst == 2'd2 && f_hleft == 4'd1 && f_hown && f_hd0_now == 8'd24;
+    always @(posedge clk) begin
+        if (f_shs) begin
+            case (f_hst)
+                2'd0: begin
+                    f_hown <= s_axis_tdata == A;
+                    f_hst  <= 2'd1;
+                end
+                2'd1: begin
+                    f_hleft    <= s_axis_tdata[3:0];
+                    f_hd0_seen <= 1'b0;
+                    f_hst      <= (s_axis_tdata == 8'd0 || s_axis_tdata > 8'd8) ? 2'd0 : 2'd2;
+                end
+                default: begin
+                    if (!f_hd0_seen) f_hd0 <= s_axis_tdata;
+                    f_hd0_seen <= 1'b1;
+                    f_hleft    <= f_hleft - 4'd1;
+                    if (f_hleft == 4'd1) f_hst <= 2'd0;
+                end
+            endcase
+        end
+        if (f_rcmd) f_since <= 3'd1;
+        else if (f_since != 3'd0 && f_since != 3'd7) f_since <= f_since + 3'd1;
+        if (f_since == 3'd3) begin
+            f_pu   <= 1'b1;
+            f_keep <= m_axis_tvalid && (f_idx != 4'd0 || m_axis_tready) && !(f_mhs && m_axis_tlast);
+        end else begin
+            if (f_keep && f_mhs && m_axis_tlast) f_keep <= 1'b0;
+            if (f_pu && !f_keep && f_mhs && m_axis_tlast) f_pu <= 1'b0;
+        end
+        if (rst) begin
+            f_hst   <= 2'd0;
+            f_since <= 3'd0;
+            f_pu    <= 1'b0;
+            f_keep  <= 1'b0;
+        end
+    end
+
+    always @(*) if (f_past_valid && !rst && !f_rst_q) begin
+        if (f_pu && !f_keep && f_since != 3'd3 && m_axis_tvalid)
+            assert(m_axis_tdata == (f_idx == 4'd0 ? A : f_idx == 4'd1 ? 8'd2 :
+                                    f_idx == 4'd2 ? 8'h80 : 8'd4));
+        if (f_since == 3'd4) begin
+            assert(pin_oe == 1'b0);
+            assert(!rflx_valid);
+        end
+        cover(f_pu && f_keep && f_since == 3'd4);                        // a partly sent packet finishes
+        cover(f_since == 3'd3 && m_axis_tvalid && f_idx == 4'd0 && !m_axis_tready);  // replaced in place
+        cover(f_since == 3'd7 && f_pu && !f_keep && f_mhs && m_axis_tlast);  // the power-up message out
+    end
+`endif
 
     always @(*) if (f_past_valid && !rst && !f_rst_q) begin
         cover(f_mhs && m_axis_tlast && f_pkts == 4'd1);                 // a reply after the power-up message

@@ -53,7 +53,9 @@
     wire       f_is_in  = f_pin_ok && f_cfg[5*f_d1[5:0]];   // the pin byte's pin is an input
     wire       f_dev_in = f_dev_ok && f_cfg[5*f_dp];        // the DEVCODE's pin is an input
     wire       f_valid_code = f_d0 == CMD_HB || f_d0 == CMD_DIG_CFG || f_d0 == CMD_DIG_IO ||
-                              f_d0 == CMD_DIG_RST || f_d0 == CMD_PTIME_RD || f_d0 == CMD_DEBUG;
+                              f_d0 == CMD_DIG_RST || f_d0 == CMD_PTIME_RD || f_d0 == CMD_DEBUG ||
+                              f_d0 == CMD_RESET;
+    wire       f_reset  = f_cmd && f_d0 == CMD_RESET;
     wire       f_w_cfg  = f_cmd && f_d0 == CMD_DIG_CFG && f_n >= 3 && f_pin_ok && !FIXED_MASK[f_d1[5:0]];
     wire       f_w_out  = f_cmd && f_d0 == CMD_DIG_IO && f_n >= 3 && f_pin_ok && !f_is_in;
     wire       f_w_rst  = f_cmd && f_d0 == CMD_DIG_RST && f_n >= 2 && f_pin_ok;
@@ -78,6 +80,8 @@
             f_rep = 1'b0;
         end else if (!f_valid_code) begin
             f_rep = 1'b1; f_rep_n = 4'd2; f_rep_data = {CMD_MSG, MSG_CMD_INVALID, 16'd0};
+        end else if (f_d0 == CMD_RESET) begin
+            f_rep = 1'b0;  // the reset's power-up message answers it
         end else if (f_d0 == CMD_DEBUG) begin
             f_rep = 1'b1; f_rep_n = f_n; f_rep_data = {CMD_DEBUG, f_d1, f_d2, f_tail[39:32]};
         end else if (f_n == 4'd1) begin
@@ -128,7 +132,7 @@
             assert((rearm_o & (rearm_o - 1'b1)) == {NUM_PINS{1'b0}});
             assert((timer_start_o & (timer_start_o - 1'b1)) == {NUM_PINS{1'b0}});
             if (!f_s2) begin
-                assert(!cfg_we_o && !out_we_o && !hb_answer_o && !reply_o && !dio_rflx_o);
+                assert(!cfg_we_o && !out_we_o && !hb_answer_o && !reply_o && !dio_rflx_o && !soft_reset_o);
                 assert(rearm_o == {NUM_PINS{1'b0}} && timer_start_o == {NUM_PINS{1'b0}});
             end else begin
                 assert(cfg_we_o == f_w_cfg);
@@ -143,6 +147,7 @@
                 if (timer_start_o != {NUM_PINS{1'b0}})
                     assert(timer_host_o == f_d1[7] && timer_rflx_o == f_d1[6]);
                 assert(hb_answer_o == f_hb_ans);
+                assert(soft_reset_o == f_reset);
                 if (hb_answer_o) assert(hb_answer_down_o == f_d1[0]);
                 assert(reply_o == f_rep);
                 if (reply_o) begin
@@ -178,6 +183,7 @@
         cover(cfg_we_o);
         cover(out_we_o);
         cover(timer_start_o != {NUM_PINS{1'b0}} && timer_rflx_o);
+        cover(soft_reset_o);
         cover(dio_rflx_o && reply_o);
         cover(f_acted && f_s2 && reply_o && reply_data_o[23:16] == MSG_CMD_TOO_LONG);
         cover(reply_o && reply_n_o == 4'd8 && reply_data_o[31:24] == CMD_DEBUG);

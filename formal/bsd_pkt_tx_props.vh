@@ -48,6 +48,7 @@
         if (f_past_valid && !f_rst_q && f_iv_q && !f_ir_q) assume(item_valid_i && item_data_i == f_id_q);
         assume(item_data_i[29:28] != 2'd3);
         assume(rep_n_i <= 4'd8);
+        assume(!flush_i);  // cmdRESET: formal/brainstem_dio.sby's reset tasks, tb/brainstem_dio/test_soft_reset.py
         // the reply slot and the heartbeat keep their packet while it goes out
         if (f_past_valid && !f_rst_q && f_busy) begin
             if (f_kind == 2'd1) assume(rep_n_i == f_n && rep_data_i == f_rd && rep_tail_i == f_rt);
@@ -60,6 +61,7 @@
             if (f_busy) begin
                 assert(pos_q == f_pos && n_q == f_n && kind_q == f_kind && f_kind != 2'd3);
                 assert(f_n <= 4'd8 && last_q == (f_pos == f_n + 4'd1));
+                assert(credit_q && first_q == (f_pos == 4'd0));
                 assert(m_axis_tlast == (f_pos == f_n + 4'd1));
                 assert(f_pos <= f_n + 4'd1);
                 if (f_pos == 4'd0) assert(m_axis_tdata == MODULE_ADDR[7:0]);

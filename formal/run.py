@@ -62,6 +62,8 @@ JOBS: list[tuple[str, str, bool]] = [
     ("bsd_parser", "cover", False),
     ("brainstem_dio", "bmc", False),   # depth 28: about 65 s
     ("brainstem_dio", "cover", False),
+    ("brainstem_dio", "reset_bmc", False),    # cmdRESET, depth 22 (its covers by step 18)
+    ("brainstem_dio", "reset_cover", False),
     ("bsd_sync", "prove", True),
     ("bsd_sync", "cover", False),
     ("bsd_cfg_regs", "prove", True),

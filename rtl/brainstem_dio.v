@@ -131,17 +131,31 @@ module brainstem_dio #(
     end
 `endif
 
+    // ------------------------------------------------------------ cmdRESET
+    // The executor's cmdRESET strobe resets every block as rst does, one clock
+    // later, except two: the parser, which has taken no byte after the packet
+    // (hold below) and so already waits for an address, and keeps the bytes
+    // that come after it for after the reset; and the transmitter, which
+    // finishes a packet already partly sent (bsd_pkt_tx, flush_i).
+    wire soft_reset;
+    reg  soft_rst_q;
+    always @(posedge clk) begin
+        soft_rst_q <= soft_reset;
+        if (rst) soft_rst_q <= 1'b0;
+    end
+    wire core_rst = rst || soft_rst_q;
+
     // ------------------------------------------------------ time and inputs
     wire tick;
     wire poll;
     wire [NUM_PINS-1:0] level;
 
     bsd_tick_gen #(.CLK_HZ(CLK_HZ), .RATE_HZ(TICK_HZ)) u_tick (
-        .clk(clk), .rst(rst), .tick_o(tick)
+        .clk(clk), .rst(core_rst), .tick_o(tick)
     );
 
     bsd_tick_gen #(.CLK_HZ(CLK_HZ), .RATE_HZ(POLL_HZ)) u_poll (
-        .clk(clk), .rst(rst), .tick_o(poll)
+        .clk(clk), .rst(core_rst), .tick_o(poll)
     );
 
     bsd_sync #(.WIDTH(NUM_PINS)) u_sync (
@@ -153,12 +167,15 @@ module brainstem_dio #(
     reg [1:0] init_q;
     always @(posedge clk) begin
         init_q <= {init_q[0], 1'b0};
-        if (rst) init_q <= 2'b11;
+        if (core_rst) init_q <= 2'b11;
     end
     wire init_arm = |init_q;
 
     // -------------------------------------------------------------- parsing
-    wire       pkt_hold;
+    wire       slot_hold;
+    // The clock of the reset itself holds too: a packet handed over then
+    // would meet the reply slot as the reset fills it with the power-up message.
+    wire       pkt_hold = slot_hold || soft_rst_q;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -211,7 +228,7 @@ module brainstem_dio #(
         .PIN_ID_BASE (PIN_ID_BASE)
     ) u_exec (
         .clk             (clk),
-        .rst             (rst),
+        .rst             (core_rst),
         .pkt_valid_i     (pkt_valid),
         .pkt_kind_i      (pkt_kind),
         .pkt_n_i         (pkt_n),
@@ -233,6 +250,7 @@ module brainstem_dio #(
         .timer_rflx_o    (timer_rflx),
         .hb_answer_o     (hb_answer),
         .hb_answer_down_o(hb_answer_down),
+        .soft_reset_o    (soft_reset),
         .s2_valid_o      (s2_valid),
         .reply_o         (s2_reply),
         .reply_n_o       (s2_reply_n),
@@ -255,7 +273,7 @@ module brainstem_dio #(
 
     bsd_reply_slot u_slot (
         .clk          (clk),
-        .rst          (rst),
+        .rst          (core_rst),
         .pkt_valid_i  (pkt_valid),
         .s2_valid_i   (s2_valid),
         .reply_i      (s2_reply),
@@ -265,7 +283,7 @@ module brainstem_dio #(
         .dio_rflx_i   (s2_dio_rflx),
         .dio_id_i     (s2_dio_id),
         .dio_val_i    (s2_dio_val),
-        .hold_o       (pkt_hold),
+        .hold_o       (slot_hold),
         .rep_req_o    (rep_req),
         .rep_n_o      (rep_n),
         .rep_data_o   (rep_data),
@@ -283,7 +301,7 @@ module brainstem_dio #(
         .FIXED_CFG  (FIXED_CFG)
     ) u_cfg (
         .clk         (clk),
-        .rst         (rst),
+        .rst         (core_rst),
         .cfg_we_i    (cfg_we),
         .out_we_i    (out_we),
         .pin_idx_i   (wr_pin_idx),
@@ -308,7 +326,7 @@ module brainstem_dio #(
 
             bsd_trans_latch u_latch (
                 .clk      (clk),
-                .rst      (rst),
+                .rst      (core_rst),
                 .arm_i    (rearm[p] || init_arm),
                 .ena_i    (c[1]),
                 .trg_i    (c[2]),
@@ -363,7 +381,7 @@ module brainstem_dio #(
 
     bsd_timer_bank #(.NUM_TIMERS(NT)) u_timers (
         .clk         (clk),
-        .rst         (rst),
+        .rst         (core_rst),
         .tick_i      (tick),
         .level_i     (t_level),
         .start_i     (t_start),
@@ -389,7 +407,7 @@ module brainstem_dio #(
 
     bsd_timeout_wheel #(.NUM_TIMERS(NT)) u_wheel (
         .clk         (clk),
-        .rst         (rst),
+        .rst         (core_rst),
         .tick_i      (tick),
         .t_i         (t_count),
         .start_i     (t_start),
@@ -403,7 +421,7 @@ module brainstem_dio #(
 
     bsd_heartbeat #(.HB_RATE(HB_RATE)) u_hb (
         .clk           (clk),
-        .rst           (rst),
+        .rst           (core_rst),
         .tick_i        (tick),
         .answer_i      (hb_answer),
         .answer_down_i (hb_answer_down),
@@ -419,7 +437,7 @@ module brainstem_dio #(
     reg hb_new_q;
     always @(posedge clk) begin
         hb_new_q <= hb_new;
-        if (rst) hb_new_q <= 1'b0;
+        if (core_rst) hb_new_q <= 1'b0;
     end
 
     // ---------------------------------------------------------- event queue
@@ -432,13 +450,18 @@ module brainstem_dio #(
     // the mux is only as wide as those fields.
     wire          evq_ready, evq_valid, evq_empty, drain_free;
     wire [EW-1:0] evq_data;
-    wire          ev_new   = ev_any || rep_new || dio_rflx_new || hb_new_q;
-    wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_new, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
+    // After a cmdRESET that turned the packet on offer into the power-up
+    // message (bsd_pkt_tx), that message is already on its way: its event
+    // is dropped.
+    wire          tx_swapped;
+    wire          rep_ev   = rep_new && !tx_swapped;
+    wire          ev_new   = ev_any || rep_ev || dio_rflx_new || hb_new_q;
+    wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
     wire          ev_skip  = evq_empty && drain_free && !ev_any;
 
     bsd_fifo #(.WIDTH(EW), .DEPTH(256)) u_evq (
         .clk           (clk),
-        .rst           (rst),
+        .rst           (core_rst),
         .s_axis_tdata  (ev_entry),
         .s_axis_tvalid (ev_new && !ev_skip),
         .s_axis_tready (evq_ready),
@@ -458,7 +481,7 @@ module brainstem_dio #(
         .NT            (NT)
     ) u_drain (
         .clk           (clk),
-        .rst           (rst),
+        .rst           (core_rst),
         .ev_valid_i    (evq_valid || (evq_empty && ev_new && !ev_any)),
         .ev_data_i     (evq_valid ? evq_data : {{(EW-26){1'b0}}, ev_entry[25:0]}),
         .ev_ready_o    (drain_free),
@@ -484,7 +507,7 @@ module brainstem_dio #(
 
     bsd_fifo #(.WIDTH(30), .DEPTH(128)) u_outq (
         .clk           (clk),
-        .rst           (rst),
+        .rst           (core_rst),
         .s_axis_tdata  (order_data),
         .s_axis_tvalid (order_valid && !out_skip),
         .s_axis_tready (outq_ready),
@@ -497,6 +520,8 @@ module brainstem_dio #(
     bsd_pkt_tx #(.MODULE_ADDR(MODULE_ADDR)) u_tx (
         .clk           (clk),
         .rst           (rst),
+        .flush_i       (soft_rst_q),
+        .swapped_o     (tx_swapped),
         .item_valid_i  (outq_valid || (outq_empty && order_valid)),
         .item_data_i   (outq_valid ? outq_data : order_data),
         .item_ready_o  (tx_take),

@@ -47,6 +47,8 @@ module bsd_exec #(
     // heartbeat answer from the host
     output wire                  hb_answer_o,       // the host answered a heartbeat: type 2 (UP) or 3 (DOWN)
     output wire                  hb_answer_down_o,  // it answered a DOWN one
+    // cmdRESET: the core returns to its power-up state (a one-clock strobe in stage 2)
+    output wire                  soft_reset_o,
     // stage 2's packet and decision, for bsd_reply_slot
     output wire                  s2_valid_o,    // a packet is in stage 2
     output wire                  reply_o,       // it has a reply: A, reply_n_o, reply_data_o[31:24] ...
@@ -127,7 +129,7 @@ module bsd_exec #(
 
     reg                s2_valid_q;
     reg                probe_q, serial_q, cmd_q;
-    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_debug_q, is_invalid_q;
+    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_debug_q, is_reset_q, is_invalid_q;
     reg [3:0]          n_q;
     reg                n1_q, n2_q, n_gt2_q, n_gt3_q;
     reg [7:0]          s2_d1_q, s2_d2_q;
@@ -149,8 +151,10 @@ module bsd_exec #(
         is_io_q         <= pkt_d0_i == CMD_DIG_IO;
         is_rst_q        <= pkt_d0_i == CMD_DIG_RST;
         is_debug_q      <= pkt_d0_i == CMD_DEBUG;
+        is_reset_q      <= pkt_d0_i == CMD_RESET;
         is_invalid_q    <= !(pkt_d0_i == CMD_HB || pkt_d0_i == CMD_DIG_CFG || pkt_d0_i == CMD_DIG_IO ||
-                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD || pkt_d0_i == CMD_DEBUG);
+                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD || pkt_d0_i == CMD_DEBUG ||
+                             pkt_d0_i == CMD_RESET);
         n_q             <= pkt_n_i;
         n1_q            <= pkt_n_i == 4'd1;
         n2_q            <= pkt_n_i == 4'd2;
@@ -202,6 +206,8 @@ module bsd_exec #(
     assign timer_host_o  = dev_host;
     assign timer_rflx_o  = dev_rflx;
     assign hb_answer_down_o = s2_d1_q[0];  // type 3, as hb_answer_o comes only for 2 and 3
+    // Any N: the power-up message that follows is the answer, so it is never cmdTooLong.
+    assign soft_reset_o  = cmd_q && is_reset_q;
 
     // A DIG_IO read of an input pin with the RFLX bit: the same conditions as
     // its reply below, written flat since they enable the RFLX slot
@@ -238,6 +244,8 @@ module bsd_exec #(
                 // Silent; stage 1 decided whether it answers.
             end else if (is_invalid_q) begin
                 message(MSG_CMD_INVALID);
+            end else if (is_reset_q) begin
+                // No reply of its own: the reset puts the power-up message in the reply slot.
             end else if (is_debug_q) begin
                 // The echo: the packet back as received, any N (bytes past N are not sent).
                 reply      = 1'b1;

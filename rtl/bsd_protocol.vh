@@ -10,6 +10,7 @@
 localparam [7:0] CMD_HB       = 8'd0;   // cmdHB
 localparam [7:0] CMD_DEV_VAL  = 8'd4;   // cmdDEV_VAL
 localparam [7:0] CMD_DEBUG    = 8'd23;  // cmdDEBUG
+localparam [7:0] CMD_RESET    = 8'd24;  // cmdRESET
 localparam [7:0] CMD_DIG_CFG  = 8'd26;  // cmdDIG_CFG
 localparam [7:0] CMD_DIG_IO   = 8'd27;  // cmdDIG_IO
 localparam [7:0] CMD_DIG_RST  = 8'd28;  // cmdDIG_RST

@@ -3,7 +3,8 @@
 """Simulation benchmark: simulated clock cycles per wall-clock second of the same busy
 scenario (continuous packet traffic, timers running, pins toggling) on the standalone
 Verilator harness, cocotb + Verilator and cocotb + Icarus, side by side; where the standalone
-harness spends its instructions (Callgrind, if valgrind is installed). (`make test`'s own time,
+harness spends its instructions, and its instructions per clock at 64 pins with a timer on
+each (Callgrind, if valgrind is installed). (`make test`'s own time,
 on a fresh clone, is sim/test_time.py's: `make test-time`.) Prints what it measures and fills the generated regions of
 docs/benchmarks.md with those figures only, under the date of this run (a region whose
 measurement was skipped says so); the hand-written text around them is left alone, and so is
@@ -38,11 +39,13 @@ from bsd_model import Params  # noqa: E402
 from docregions import RegionError, fill, fill_file  # noqa: E402
 
 BENCH_BIN = ROOT / "sim" / "build" / "bench" / "session"
+BENCH64_BIN = ROOT / "sim" / "build" / "bench64" / "session"     # 64 pins x 64 timers (Makefile BENCH64_*)
 DOC = ROOT / "docs" / "benchmarks.md"
 REGIONS = ("bench-run", "bench-speed", "bench-callgrind")
 
 # The project's targets (the issue tracker's): the figures are compared with them.
 TARGET_CPS = 10e6                 # standalone harness, simulated cycles per second
+TARGET_IPC = {"GP 1.0 (5 pins, 4 timers)": 1000, "64 pins × 64 timers": 1500}   # instructions a clock
 
 
 class BenchError(RuntimeError):
@@ -111,9 +114,9 @@ def _group(fn: str, obj: str) -> str:
     return "the harness and the C++/C libraries"
 
 
-def _callgrind_once(cycles: int, tmp: Path) -> tuple[int, dict[str, tuple[int, str]]]:
-    out = tmp / f"cg.{cycles}"
-    _run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(BENCH_BIN), "--bench", str(cycles)],
+def _callgrind_once(cycles: int, tmp: Path, binary: Path = BENCH_BIN) -> tuple[int, dict[str, tuple[int, str]]]:
+    out = tmp / f"cg.{binary.parent.name}.{cycles}"
+    _run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(binary), "--bench", str(cycles)],
          "valgrind --tool=callgrind", capture_output=True)
     text = _run(["callgrind_annotate", "--inclusive=no", "--threshold=100", str(out)],
                 "callgrind_annotate", capture_output=True).stdout
@@ -133,13 +136,13 @@ def _callgrind_once(cycles: int, tmp: Path) -> tuple[int, dict[str, tuple[int, s
     return total, funcs
 
 
-def callgrind(cycles: int) -> dict:
+def callgrind(cycles: int, binary: Path = BENCH_BIN) -> dict:
     """Instructions per simulated clock, from two runs of `cycles` and `2 * cycles` clocks:
     the difference leaves out start-up and the harness's warm-up."""
-    _run(["make", "-s", "bench-build"], "building the standalone harness")
+    _run(["make", "-s", "bench-build"], "building the standalone harnesses")
     with tempfile.TemporaryDirectory() as tmp:
-        t1, f1 = _callgrind_once(cycles, Path(tmp))
-        t2, f2 = _callgrind_once(2 * cycles, Path(tmp))
+        t1, f1 = _callgrind_once(cycles, Path(tmp), binary)
+        t2, f2 = _callgrind_once(2 * cycles, Path(tmp), binary)
     per = {name: ((f2[name][0] - f1.get(name, (0, ""))[0]) / cycles, f2[name][1]) for name in f2}
     per = {k: v for k, v in per.items() if v[0] > 0.5}
     return {"cycles": cycles, "total": (t2 - t1) / cycles, "functions": per}
@@ -221,8 +224,14 @@ def regions(r: dict) -> dict[str, str]:
     else:
         lines = [head, "",
                  f"Callgrind on the standalone harness: x86 instructions per simulated clock, the "
-                 f"difference of a {cg['cycles']:,}- and a {2 * cg['cycles']:,}-clock run divided by "
-                 f"{cg['cycles']:,} (so start-up is left out). In all: {cg['total']:,.0f} a clock.", "",
+                 f"difference of an N- and a 2N-clock run divided by N (so start-up is left out), "
+                 f"the same busy scenario on each build "
+                 f"(`make bench-build`: GP 1.0, and 64 pins with a timer on each, `BENCH64_*` in the Makefile).", "",
+                 "| build | instructions a clock | target | |", "|---|---:|---:|---|"]
+        for (label, target), c in zip(TARGET_IPC.items(), (cg, r["callgrind64"])):
+            lines.append(f"| {label} ({c['cycles']:,} and {2 * c['cycles']:,} clocks) | {c['total']:,.0f} | "
+                         f"≤ {target:,} | {'met' if c['total'] <= target else '**missed**'} |")
+        lines += ["", "Where GP 1.0's instructions go:", "",
                  "| function (self cost) | instructions a clock | share |", "|---|---:|---:|"]
         funcs = sorted(cg["functions"].items(), key=lambda kv: -kv[1][0])
         shown = [kv for kv in funcs if kv[1][0] >= 0.01 * cg["total"]][:12]
@@ -249,11 +258,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--cocotb-cycles", type=int, default=200_000, help="cycles of each cocotb run")
     ap.add_argument("--callgrind-cycles", type=int, default=200_000,
                     help="clocks of the shorter Callgrind run (the longer one runs twice as many)")
+    ap.add_argument("--callgrind64-cycles", type=int, default=50_000,
+                    help="the same for the 64-pin, 64-timer build (each of its clocks costs more)")
     ap.add_argument("--no-callgrind", action="store_true", help="skip the Callgrind breakdown")
     ap.add_argument("--write", type=Path, default=DOC, help="document whose regions are filled")
     ap.add_argument("--no-write", action="store_true", help="print the figures only")
     args = ap.parse_args(argv)
-    for name in ("cycles", "cocotb_cycles", "callgrind_cycles"):
+    for name in ("cycles", "cocotb_cycles", "callgrind_cycles", "callgrind64_cycles"):
         if getattr(args, name) < 1:
             ap.error(f"--{name.replace('_', '-')} must be at least 1")
 
@@ -279,7 +290,9 @@ def main(argv: list[str] | None = None) -> int:
             r["callgrind"] = "valgrind is not installed"
         else:
             r["callgrind"] = callgrind(args.callgrind_cycles)
-            print(f"callgrind: {r['callgrind']['total']:,.0f} instructions a simulated clock", flush=True)
+            r["callgrind64"] = callgrind(args.callgrind64_cycles, BENCH64_BIN)
+            print(f"callgrind: {r['callgrind']['total']:,.0f} instructions a simulated clock (GP 1.0), "
+                  f"{r['callgrind64']['total']:,.0f} (64 pins x 64 timers)", flush=True)
         r["load_end"] = _load()
         if not args.no_write:
             changed = fill_file(args.write, regions(r))

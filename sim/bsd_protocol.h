@@ -13,6 +13,7 @@ namespace bsd {
 constexpr uint8_t CMD_HB       = 0;     // cmdHB
 constexpr uint8_t CMD_DEV_VAL  = 4;     // cmdDEV_VAL
 constexpr uint8_t CMD_DEBUG    = 23;    // cmdDEBUG
+constexpr uint8_t CMD_RESET    = 24;    // cmdRESET
 constexpr uint8_t CMD_DIG_CFG  = 26;    // cmdDIG_CFG
 constexpr uint8_t CMD_DIG_IO   = 27;    // cmdDIG_IO
 constexpr uint8_t CMD_DIG_RST  = 28;    // cmdDIG_RST
@@ -98,6 +99,7 @@ constexpr CommandName COMMANDS[] = {
     {CMD_HB, "cmdHB"},
     {CMD_DEV_VAL, "cmdDEV_VAL"},
     {CMD_DEBUG, "cmdDEBUG"},
+    {CMD_RESET, "cmdRESET"},
     {CMD_DIG_CFG, "cmdDIG_CFG"},
     {CMD_DIG_IO, "cmdDIG_IO"},
     {CMD_DIG_RST, "cmdDIG_RST"},

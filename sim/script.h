@@ -9,6 +9,8 @@
 //   expect 2 4 4 14 1 244 the next packet from the core, whole (address, N, data)      [script]
 //   reset                 pulse rst
 //   noise 3 2             send these bytes to the host between packets                [stdin]
+//   ber 1e-3              flip each bit on both serial lines with this probability     [stdin]
+//   stats                 print the bits flipped so far per line                       [stdin]
 //   quit                  stop                                                        [stdin]
 // The parser knows nothing of the core but its pin count; a bad line throws Fail with the
 // message, and the caller adds where the line came from ("file:line: ", "stdin:line: ").
@@ -30,7 +32,7 @@ struct Fail {
     std::string msg;
 };
 
-enum class Op { Send, PinSet, PinPulse, Wait, Expect, Reset, Noise, Quit };
+enum class Op { Send, PinSet, PinPulse, Wait, Expect, Reset, Noise, Quit, Ber, Stats };
 
 // Which lines a reader takes: a session script (make sim) or the virtual module's stdin,
 // where packets come from the host on the port instead and `noise` and `quit` are added.
@@ -43,6 +45,7 @@ struct Step {
     int pin = 0;
     int level = 0;
     double seconds = 0;
+    double ber = 0;  // Ber: the probability
 };
 
 inline bool parse_int(const std::string& tok, long& out) {
@@ -82,6 +85,22 @@ inline bool parse_time(const std::string& tok, double& seconds) {
     return false;
 }
 
+// A bit error rate: a probability from 0 to 1, decimal or with an exponent (1e-3, 0.001).
+inline bool parse_ber(const std::string& tok, double& p) {
+    if (tok.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(tok.c_str(), &end);
+    // v == v and the range test refuse nan and inf; strtod's hex floats and leading blanks too.
+    if (errno || !end || *end != '\0' || !(v >= 0.0 && v <= 1.0) || std::isspace((unsigned char)tok[0]) ||
+        tok.find_first_of("xXnN") != std::string::npos)
+        return false;
+    p = v;
+    return true;
+}
+
+constexpr const char* kBerHelp = "a bit error rate from 0 to 1, e.g. 1e-3";
+
 // One line of text -> its step. Returns false for a blank or comment-only line; throws
 // Fail{message} for a bad one.
 inline bool parse_line(const std::string& raw, int line, int num_pins, Dialect dialect, Step& st) {
@@ -95,7 +114,7 @@ inline bool parse_line(const std::string& raw, int line, int num_pins, Dialect d
     st = Step{};
     st.line = line;
     const bool stdin_lines = dialect == Dialect::Stdin;
-    const char* stdin_takes = " (standard input takes pin, wait, reset, noise and quit)";
+    const char* stdin_takes = " (standard input takes pin, wait, reset, noise, ber, stats and quit)";
     const std::string& kw = tok[0];
     if (kw == "pin") {
         long pin;
@@ -141,6 +160,13 @@ inline bool parse_line(const std::string& raw, int line, int num_pins, Dialect d
             if (!parse_byte(tok[i], b)) throw Fail{"bad byte '" + tok[i] + "' (0..255)"};
             st.bytes.push_back(b);
         }
+    } else if (kw == "ber" && stdin_lines) {
+        st.op = Op::Ber;
+        if (tok.size() != 2) throw Fail{std::string("expected 'ber P' (") + kBerHelp + ")"};
+        if (!parse_ber(tok[1], st.ber)) throw Fail{"bad bit error rate '" + tok[1] + "' (" + kBerHelp + ")"};
+    } else if (kw == "stats" && stdin_lines) {
+        if (tok.size() != 1) throw Fail{"'stats' takes no argument"};
+        st.op = Op::Stats;
     } else if (kw == "quit" && stdin_lines) {
         if (tok.size() != 1) throw Fail{"'quit' takes no argument"};
         st.op = Op::Quit;

@@ -3,7 +3,8 @@
 // heartbeat) simulated by Verilator behind a pseudo-terminal, in step with the wall clock, so
 // that an unmodified serial host program can open the pty like a real module's serial port.
 //
-//   virtual [--link PATH] [--wave FILE]    run; print "port: /dev/pts/N"; PATH -> the pty
+//   virtual [--link PATH] [--wave FILE] [--ber P] [--seed N]
+//                                          run; print "port: /dev/pts/N"; PATH -> the pty
 //   virtual --bench SECONDS                run unpaced for SECONDS of wall time with a busy
 //                                          host, print the ratio of simulated to real time
 //
@@ -23,8 +24,10 @@
 // clock (steady_clock) since start; when ahead it sleeps in ppoll on the pty and stdin.
 // Once a second it checks: when it is behind by more than 50 ms and ran slower than real
 // time over that second, it prints "behind real time: x0.43" (simulated seconds per wall
-// second over that second) on stderr. A lag beyond 100 ms is forgiven (the origin moves), so
-// that a stall is not followed by a long sprint.
+// second over that second) on stderr, with ", stalled 0.153 s" when the loop did not run for
+// more than 50 ms in that second (then the line comes even if the lag was made up). A lag
+// beyond 100 ms is forgiven (the origin moves), so that a stall is not followed by a long
+// sprint.
 //
 // Standard input takes the session-script lines of make sim (sim/script.h): pin N high|low,
 // pin N pulse TIME, wait TIME, reset; and noise BYTES (sent to the host at the next packet
@@ -34,6 +37,19 @@
 // the host opening and closing the port. EOF (after the lines before it have run), quit,
 // SIGINT, SIGTERM and SIGHUP end the run cleanly (exit 0) and remove the link. A bad line,
 // an unknown option or a pty that cannot be made: a message on stderr and exit 1 (2 for usage).
+//
+// Line noise (--ber P, the stdin line `ber P`): each bit of a frame on either line (start,
+// data and stop bits; not the idle line between frames) is inverted with probability P. The
+// rx line is driven inverted for that bit; on the tx line the host's UART (a second decoder
+// here, the one whose bytes go to the pty) sees the core's bit inverted, while the transcript
+// decodes what the core really sent. So the transcript shows both sides as they were meant,
+// and a line `* noise rx 1A  flipped d3 stop [bits 1200 1209]` per byte that was hit (the
+// bits' positions count every bit on that line since start). Each line has its own
+// generator from the seed (printed at start; --seed repeats it), drawn once per bit while P
+// is not 0: the same seed and the same bytes flip the same bits. `stats` prints the counts;
+// so does the end of the run. A host UART that sees a 0 stop bit still passes the byte on,
+// as Linux does without INPCK. A bad `ber` line is refused on stderr and the run goes on with
+// the rate it had (a mistyped rate should not end a long soak); other bad lines end it.
 //
 // Pads: pin_i of a pin is its pin_o while pin_oe is 1, else the level set from stdin; the
 // levels start high, as the board's pull-ups make them.
@@ -48,6 +64,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cinttypes>
+#include <cmath>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -55,6 +72,8 @@
 #include <ctime>
 #include <deque>
 #include <memory>
+#include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -173,6 +192,7 @@ class Board {
     void reset() {
         // A host byte on the line is cut off; the core's output restarts with power-up.
         rx_bit_ = -1;
+        clear_frames();
         top_->rx = 1;
         rx_next_ = rxq_.empty() ? kNever : cycle_ + 1;
         tx_bit_ = -1;
@@ -183,6 +203,7 @@ class Board {
         top_->rst = 0;
         tx_bit_ = -1;
         cur_.clear();
+        clear_frames();
         log("reset", "");
     }
 
@@ -199,6 +220,26 @@ class Board {
 
     void noise(const std::vector<uint8_t>& bytes) {
         noise_.insert(noise_.end(), bytes.begin(), bytes.end());
+    }
+
+    // Line noise: the probability of each bit's inversion, and the counts.
+    void set_ber(double p) {
+        ber_ = p;
+        ber_all_ = p >= 1.0;
+        // A 64-bit draw below this flips the bit: P to within 2^-64.
+        ber_below_ = p >= 1.0 ? UINT64_MAX : static_cast<uint64_t>(std::ldexp(p, 64));
+    }
+    double ber() const { return ber_; }
+    void seed(uint64_t s) {
+        std::seed_seq rx{uint32_t(s), uint32_t(s >> 32), 1u}, tx{uint32_t(s), uint32_t(s >> 32), 2u};
+        rxn_.rng.seed(rx);
+        txn_.rng.seed(tx);
+    }
+    std::string stats() const {
+        char b[160];
+        std::snprintf(b, sizeof b, "rx %" PRIu64 " of %" PRIu64 " bits flipped, tx %" PRIu64 " of %" PRIu64 " bits flipped",
+                      rxn_.flips, rxn_.bits, txn_.flips, txn_.bits);
+        return b;
     }
 
     void set_ext(int pin, int level) {
@@ -227,14 +268,38 @@ class Board {
         if (dump) trace_->dump(2 * cycle_);
         // Outputs are sampled before the rising edge.
         const int tx = top_->tx;
+        // The core's frame: bit k spans kDiv clocks from the start bit's first clock; each bit
+        // is drawn for noise as it begins (a next start bit may begin as the stop bit ends).
+        if (txf_bit_ >= 0 && cycle_ == txf_next_) {
+            if (++txf_bit_ == 10) {
+                txf_bit_ = -1;
+                txf_flip_ = 0;
+            } else {
+                txf_flip_ = flip(txn_, txf_bit_);
+                txf_next_ += kDiv;
+            }
+        }
         if (tx_bit_ < 0) {
             if (!tx) {
                 tx_bit_ = 0;
                 tx_sample_ = cycle_ + kDiv / 2;
                 last_event_ = cycle_;
+                txf_bit_ = 0;
+                txf_next_ = cycle_ + kDiv;
+                txf_flip_ = flip(txn_, 0);
             }
         } else if (cycle_ == tx_sample_) {
             tx_step(tx);
+        }
+        // The host's UART, on the line as the noise left it.
+        const int line = tx ^ txf_flip_;
+        if (hx_bit_ < 0) {
+            if (!line) {
+                hx_bit_ = 0;
+                hx_sample_ = cycle_ + kDiv / 2;
+            }
+        } else if (cycle_ == hx_sample_) {
+            host_uart_step(line);
         }
         if (top_->pin_o != pin_o_ || top_->pin_oe != pin_oe_) pads_changed();
         if (top_->raw_trans) raw_inputs(top_->raw_trans);
@@ -262,12 +327,14 @@ class Board {
         if (rx_bit_ >= 0) {
             ++rx_bit_;
             if (rx_bit_ < 10) {
-                top_->rx = rx_bit_ <= 8 ? (rx_byte_ >> (rx_bit_ - 1)) & 1 : 1;
+                const int level = rx_bit_ <= 8 ? (rx_byte_ >> (rx_bit_ - 1)) & 1 : 1;
+                top_->rx = level ^ flip(rxn_, rx_bit_);
                 rx_next_ = cycle_ + kDiv;
                 return;
             }
             rx_bit_ = -1;  // the stop bit is over: the byte has crossed the line
             host_.byte(rx_byte_, now());
+            log_flips("rx", rx_byte_, rxn_);
         }
         if (rxq_.empty()) {
             rx_next_ = kNever;
@@ -276,8 +343,71 @@ class Board {
         rx_byte_ = rxq_.front();
         rxq_.pop_front();
         rx_bit_ = 0;
-        top_->rx = 0;
+        top_->rx = 0 ^ flip(rxn_, 0);
         rx_next_ = cycle_ + kDiv;
+    }
+
+    // Frames cut off by a reset: their flips are not reported, the host's UART starts afresh.
+    void clear_frames() {
+        for (Noise* n : {&rxn_, &txn_}) {
+            n->mask = 0;
+            n->where.clear();
+        }
+        txf_bit_ = -1;
+        txf_flip_ = 0;
+        hx_bit_ = -1;
+    }
+
+    // Per line: its generator, and the bits of the frame on it now that were flipped.
+    struct Noise {
+        std::mt19937_64 rng;
+        uint64_t bits = 0, flips = 0;
+        unsigned mask = 0;               // bit k of the frame (0 start, 1-8 data, 9 stop)
+        std::vector<uint64_t> where;     // their positions on the line
+    };
+
+    // Bit k of a frame begins on line n: inverted?
+    int flip(Noise& n, int k) {
+        const uint64_t at = n.bits++;
+        if (ber_ == 0) return 0;
+        if (!ber_all_ && n.rng() >= ber_below_) return 0;
+        ++n.flips;
+        n.mask |= 1u << k;
+        n.where.push_back(at);
+        return 1;
+    }
+
+    void log_flips(const char* dir, uint8_t byte, Noise& n) {
+        if (!n.mask) return;
+        std::string bits, where;
+        for (int k = 0; k < 10; ++k) {
+            if (!(n.mask & (1u << k))) continue;
+            bits += k == 0 ? " start" : k == 9 ? " stop" : " d" + std::to_string(k - 1);
+        }
+        for (uint64_t w : n.where) where += (where.empty() ? "" : " ") + std::to_string(w);
+        char what[32];
+        std::snprintf(what, sizeof what, "* noise %s %02X", dir, byte);
+        log(what, "flipped" + bits + " [bits " + where + "]");
+        n.mask = 0;
+        n.where.clear();
+    }
+
+    // The host's UART on the noisy tx line; its bytes go to the pty.
+    void host_uart_step(int level) {
+        if (hx_bit_ == 0) {
+            if (level) {  // not a start bit after all
+                hx_bit_ = -1;
+                return;
+            }
+        } else if (hx_bit_ <= 8) {
+            hx_shift_ = static_cast<uint8_t>((hx_shift_ >> 1) | (level ? 0x80 : 0));
+        } else {
+            hx_bit_ = -1;
+            if (host_open_) out_.push_back(hx_shift_);  // a 0 stop bit too (no INPCK)
+            return;
+        }
+        ++hx_bit_;
+        hx_sample_ += kDiv;
     }
 
     // The tx line, sampled in the middle of each bit.
@@ -294,6 +424,7 @@ class Board {
             tx_bit_ = -1;
             if (tx) core_byte(tx_shift_);
             else log("* tx framing error", "");
+            log_flips("tx", tx_shift_, txn_);
             return;
         }
         ++tx_bit_;
@@ -301,8 +432,7 @@ class Board {
     }
 
     void core_byte(uint8_t b) {
-        if (host_open_) out_.push_back(b);
-        else lost_ = true;
+        if (!host_open_) lost_ = true;
         cur_.push_back(b);
         if (cur_.size() >= 2 && cur_.size() == 2u + cur_[1]) {
             std::vector<uint8_t> p;
@@ -394,6 +524,18 @@ class Board {
     uint8_t tx_shift_ = 0;
     std::vector<uint8_t> cur_;  // the core's packet so far
     bool lost_ = false;
+    // the core's frame on the tx line, for the noise; the host's UART after it
+    int txf_bit_ = -1;
+    uint64_t txf_next_ = 0;
+    int txf_flip_ = 0;
+    int hx_bit_ = -1;
+    uint64_t hx_sample_ = 0;
+    uint8_t hx_shift_ = 0;
+    // line noise
+    double ber_ = 0;
+    bool ber_all_ = false;
+    uint64_t ber_below_ = 0;
+    Noise rxn_, txn_;
     bool host_open_ = false;
     std::vector<uint8_t> out_;
     std::vector<uint8_t> noise_;
@@ -545,7 +687,13 @@ class Console {
         try {
             if (parse_line(text, line_, kNumPins, Dialect::Stdin, st)) steps.push_back(st);
         } catch (const Fail& f) {
-            throw Fail{"stdin:" + std::to_string(line_) + ": " + f.msg};
+            const std::string msg = "stdin:" + std::to_string(line_) + ": " + f.msg;
+            std::istringstream words(text);
+            std::string first;
+            words >> first;
+            if (first != "ber") throw Fail{msg};
+            std::fflush(stdout);
+            std::fprintf(stderr, "error: %s; the rate stays as it was\n", msg.c_str());
         }
     }
     bool eof_ = false;
@@ -577,6 +725,7 @@ std::string run(Board& b, Port& port) {
     std::vector<uint8_t> in;
     double origin = wall() - b.now();  // wall time of simulated time 0
     double window_wall = wall();
+    double last_turn = window_wall, stall = 0;  // the longest time between two turns of this loop
     uint64_t window_cycles = b.cycles();
     double lost_report = 0;
     size_t lost = 0;
@@ -632,6 +781,16 @@ std::string run(Board& b, Port& port) {
                 case Op::Wait: busy_until = b.cycles() + dur; break;
                 case Op::Reset: b.reset(); break;
                 case Op::Noise: b.noise(st.bytes); break;
+                case Op::Ber: {
+                    b.set_ber(st.ber);
+                    char w[48];
+                    std::snprintf(w, sizeof w, "ber %g", st.ber);
+                    b.log(w, st.ber > 0 ? "line noise on both lines" : "line noise off");
+                    break;
+                }
+                case Op::Stats:
+                    std::printf("stats: ber %g: %s\n", b.ber(), b.stats().c_str());
+                    break;
                 case Op::Quit: return "quit";
                 case Op::Send:
                 case Op::Expect: break;  // not stdin lines (the parser refuses them)
@@ -642,14 +801,23 @@ std::string run(Board& b, Port& port) {
         b.idle_checks();
         // Pacing: never past the wall clock.
         // Once a second: behind by more than kBehindS now, and slower than real time over
-        // that second? (A short stall that has been made up is not worth a line.)
+        // that second? Or did this loop not run for more than kBehindS (the machine is busy)?
+        // A stall that has been made up since is still worth a line: a host may have seen the
+        // bytes of a packet stop for that long (the host library drops a partial packet after
+        // 0.1 s without a byte).
         const double t = wall();
+        if (t - last_turn > stall) stall = t - last_turn;
+        last_turn = t;
         double lag = (t - origin) - b.now();
         if (t - window_wall >= 1.0) {
             const double ratio = (b.cycles() - window_cycles) / double(kClkHz) / (t - window_wall);
-            if (lag > kBehindS && ratio < 1.0) std::fprintf(stderr, "behind real time: x%.2f\n", ratio);
+            if ((lag > kBehindS && ratio < 1.0) || stall > kBehindS) {
+                if (stall > kBehindS) std::fprintf(stderr, "behind real time: x%.2f, stalled %.3f s\n", ratio, stall);
+                else std::fprintf(stderr, "behind real time: x%.2f\n", ratio);
+            }
             window_wall = t;
             window_cycles = b.cycles();
+            stall = 0;
         }
         if (lag > kMaxLagS) {
             origin += lag - kMaxLagS;
@@ -704,26 +872,47 @@ void bench(Board& b, double seconds) {
 }
 
 const char* kUsage =
-    "usage: virtual [--link PATH] [--wave FILE]\n"
+    "usage: virtual [--link PATH] [--wave FILE] [--ber P] [--seed N]\n"
     "       virtual --bench SECONDS\n"
     "  Runs brainstem_dio_uart behind a pseudo-terminal and prints 'port: /dev/pts/N'.\n"
     "  --link PATH      keep a symlink PATH -> the pty while running\n"
     "  --wave FILE      record a waveform (paused while the lines and pads are idle)\n"
+    "  --ber P          line noise: flip each bit on both serial lines with probability P (0..1)\n"
+    "  --seed N         the noise generators' seed (0..2^64-1; default: a random one, printed)\n"
     "  --bench SECONDS  no pty: run unpaced for SECONDS of wall time with a busy host,\n"
     "                   print the ratio of simulated to real time\n"
-    "  Standard input: pin N high|low, pin N pulse TIME, wait TIME, reset, noise BYTES, quit.\n"
+    "  Standard input: pin N high|low, pin N pulse TIME, wait TIME, reset, noise BYTES,\n"
+    "  ber P, stats, quit.\n"
     "  The host's baud setting on the pty is ignored: the line runs at the build's BAUD.\n";
 
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string link, wave;
-    double bench_seconds = 0;
+    double bench_seconds = 0, ber = 0;
+    uint64_t seed = 0;
+    bool have_seed = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool has_value = i + 1 < argc;
         if (a == "--link" && has_value) link = argv[++i];
         else if (a == "--wave" && has_value) wave = argv[++i];
+        else if (a == "--ber" && has_value) {
+            if (!parse_ber(argv[++i], ber)) {
+                std::fprintf(stderr, "error: --ber needs %s, not '%s'\n%s", kBerHelp, argv[i], kUsage);
+                return 2;
+            }
+        } else if (a == "--seed" && has_value) {
+            const char* v = argv[++i];
+            char* end = nullptr;
+            errno = 0;
+            seed = std::strtoull(v, &end, 10);
+            if (errno || !end || *end || !std::isdigit((unsigned char)v[0])) {
+                std::fprintf(stderr, "error: --seed needs a decimal number from 0 to 2^64-1, not '%s'\n%s", v, kUsage);
+                return 2;
+            }
+            have_seed = true;
+        }
         else if (a == "--bench" && has_value) {
             char* end = nullptr;
             bench_seconds = std::strtod(argv[++i], &end);
@@ -737,7 +926,7 @@ int main(int argc, char** argv) {
         } else if (!a.empty() && a[0] == '+') {
             continue;  // Verilator plusargs
         } else {
-            const bool takes_value = a == "--link" || a == "--wave" || a == "--bench";
+            const bool takes_value = a == "--link" || a == "--wave" || a == "--bench" || a == "--ber" || a == "--seed";
             const std::string why = takes_value          ? "option '" + a + "' needs a value"
                                     : a.size() > 1 && a[0] == '-' ? "unknown option '" + a + "'"
                                                                  : "unexpected argument '" + a + "'";
@@ -773,9 +962,14 @@ int main(int argc, char** argv) {
                     kClkHz / 1e6, kBaud, hb, kModuleAddr, kNumPins);
         std::printf("port: %s\n", port->slave().c_str());
         if (!link.empty()) std::printf("link: %s\n", link.c_str());
+        if (!have_seed) seed = (uint64_t(std::random_device{}()) << 32) ^ std::random_device{}() ^ uint64_t(wall() * 1e9);
+        std::printf("line noise: ber %g, seed %" PRIu64 " (--seed %" PRIu64 " repeats it)\n", ber, seed, seed);
         std::fflush(stdout);
         b.reset(new Board(ctx.get(), wave.empty() ? nullptr : wave.c_str(), false));
+        b->seed(seed);
+        b->set_ber(ber);
         const std::string why = run(*b, *port);
+        std::printf("stats: ber %g: %s\n", b->ber(), b->stats().c_str());
         std::printf("done (%s): %.6f s simulated, %" PRIu64 " cycles%s%s\n", why.c_str(), b->now(), b->cycles(),
                     wave.empty() ? "" : ", waveform ", wave.c_str());
     } catch (const Fail& f) {

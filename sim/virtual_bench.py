@@ -36,6 +36,7 @@ sys.path.insert(0, str(ROOT / "tools"))
 from docregions import RegionError, fill, fill_file  # noqa: E402
 
 REGION = "virtual-speed"
+BOARD_HZ = 12_000_000      # the iCEBreaker's clock: the virtual module should keep real time there
 LINE = re.compile(r"simulated ([\d.]+) s in ([\d.]+) s wall, ([\d.]+) s cpu: ratio ([\d.]+) wall, ([\d.]+) cpu; "
                   r"(\d+) cycles per cpu second")
 
@@ -108,11 +109,16 @@ def report(runs: list[Run], markdown: bool, where: str) -> str:
         f" (with a core to itself: {mhz(cpu_best)} of those measured; about"
         f" {estimate / 1e6:.1f} MHz from the slowest cycle rate).",
     ]
+    board = [r.ratio_cpu for r in runs if r.clk_hz == BOARD_HZ]
+    if board:
+        summary.append(f"At {BOARD_HZ / 1e6:g} MHz (the iCEBreaker's clock), per CPU second: "
+                       f"{min(board):.2f} of real time at the slowest baud rate: "
+                       f"**{'keeps' if min(board) >= 1 else 'does not keep'}** real time on one core (target ≥ 1).")
     if markdown:
         lines = [f"Machine: {where}.", "", "| " + " | ".join(head) + " |",
                  "|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|"]
         lines += ["| " + " | ".join(row) + " |" for row in rows]
-        return "\n".join(lines + [""] + summary)
+        return "\n".join(lines + [""] + [line + "\n" for line in summary[:-1]] + summary[-1:])
     widths = [max(len(h), *(len(row[i]) for row in rows)) for i, h in enumerate(head)]
     lines = [f"machine: {where}", "  ".join(h.rjust(w) for h, w in zip(head, widths))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths)) for row in rows]

@@ -12,6 +12,7 @@ module core_wrap #(
     parameter [NUM_PINS-1:0]   TIMER_MASK    = 5'b11110,
     parameter integer          PIN_ID_BASE   = 5,
     parameter integer          TIMER_ID_BASE = 10,
+    parameter integer          TRANS_ID_BASE = 15,
     parameter integer          CLK_HZ        = 12_000_000
 ) (
     input  wire clk,
@@ -36,7 +37,8 @@ module core_wrap #(
         .NUM_PINS      (NUM_PINS),
         .TIMER_MASK    (TIMER_MASK),
         .PIN_ID_BASE   (PIN_ID_BASE),
-        .TIMER_ID_BASE (TIMER_ID_BASE)
+        .TIMER_ID_BASE (TIMER_ID_BASE),
+        .TRANS_ID_BASE (TRANS_ID_BASE)
     ) u_core (
         .clk           (clk),
         .rst           (in_q[0]),

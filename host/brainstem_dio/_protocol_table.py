@@ -8,6 +8,7 @@ from __future__ import annotations
 CMD_HB = 0  # cmdHB
 CMD_DEV_VAL = 4  # cmdDEV_VAL
 CMD_DEBUG = 23  # cmdDEBUG
+CMD_RESET = 24  # cmdRESET
 CMD_DIG_CFG = 26  # cmdDIG_CFG
 CMD_DIG_IO = 27  # cmdDIG_IO
 CMD_DIG_RST = 28  # cmdDIG_RST
@@ -76,6 +77,7 @@ COMMANDS: dict[int, str] = {
     CMD_HB: "cmdHB",
     CMD_DEV_VAL: "cmdDEV_VAL",
     CMD_DEBUG: "cmdDEBUG",
+    CMD_RESET: "cmdRESET",
     CMD_DIG_CFG: "cmdDIG_CFG",
     CMD_DIG_IO: "cmdDIG_IO",
     CMD_DIG_RST: "cmdDIG_RST",
@@ -98,6 +100,7 @@ COMMAND_FROM: dict[int, str] = {
     CMD_HB: "both",
     CMD_DEV_VAL: "core",
     CMD_DEBUG: "host",
+    CMD_RESET: "host",
     CMD_DIG_CFG: "host",
     CMD_DIG_IO: "host",
     CMD_DIG_RST: "host",
@@ -107,6 +110,7 @@ COMMAND_FROM: dict[int, str] = {
 # Shortest and longest form of the host commands that have fixed forms (N counts d0).
 CMD_MIN_N: dict[int, int] = {
     CMD_DEBUG: 1,
+    CMD_RESET: 1,
     CMD_DIG_CFG: 2,
     CMD_DIG_IO: 2,
     CMD_DIG_RST: 2,
@@ -114,6 +118,7 @@ CMD_MIN_N: dict[int, int] = {
 }
 CMD_MAX_N: dict[int, int] = {
     CMD_DEBUG: 8,
+    CMD_RESET: 8,
     CMD_DIG_CFG: 3,
     CMD_DIG_IO: 3,
     CMD_DIG_RST: 2,

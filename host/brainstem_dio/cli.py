@@ -120,6 +120,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     add("probe", "send the resync probe AD 00 and a cmdDEBUG echo; report whether the module answers")
 
+    add("reset", "reset the module (cmdRESET) and wait for its power-up message")
+
     p = add("read", "print the level (0 or 1) of an input pin")
     p.add_argument("pin", type=_pin, metavar="PIN")
 
@@ -244,6 +246,13 @@ def cmd_probe(m: Module, args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+def cmd_reset(m: Module, args: argparse.Namespace, out: TextIO) -> int:
+    start = time.monotonic()
+    m.reset()
+    out.write(f"module {m.addr} reset: power-up message after {(time.monotonic() - start) * 1e3:.1f} ms\n")
+    return 0
+
+
 def cmd_read(m: Module, args: argparse.Namespace, out: TextIO) -> int:
     out.write(f"{m.read(args.pin)}\n")
     return 0
@@ -325,6 +334,7 @@ Commands:
   read PIN                       an input's level
   write PIN VALUE                drive an output (0/1)
   rearm PIN                      re-arm the transition latch (cmdDIG_RST)
+  reset                          reset the module (cmdRESET) and wait for its power-up message
   time PIN                       time the pin (cmdPTIME_RD)
   echo [BYTE...]                 cmdDEBUG echo
   probe                          the resync probe AD 00
@@ -347,7 +357,13 @@ def _console_line(m: Module, line: str, printer: Printer) -> bool:
         return True
     try:
         code = P.command_code(verb)
-        if words[0][0].isdigit():
+        if verb in ("reset", "cmdreset"):  # before the command-name form: wait for the answer
+            if rest:
+                printer.plain("? reset takes no argument (rearm PIN re-arms a pin's latch)")
+            else:
+                m.reset()
+                printer.plain("= ok (the module sent its power-up message)")
+        elif words[0][0].isdigit():
             _console_packet(m, [int(w, 0) for w in words], printer)
         elif code is not None:
             _console_packet(m, [m.addr, code] + [int(w, 0) for w in rest], printer)
@@ -363,7 +379,7 @@ def _console_line(m: Module, line: str, printer: Printer) -> bool:
         elif verb == "write":
             m.write(int(rest[0], 0), _level(rest[1]))
             printer.plain("= ok")
-        elif verb in ("rearm", "reset", "dig_rst_pin"):
+        elif verb in ("rearm", "dig_rst_pin"):
             m.rearm(int(rest[0], 0))
             printer.plain("= ok")
         elif verb == "time":
@@ -467,6 +483,7 @@ def cmd_console(m: Module, args: argparse.Namespace, out: TextIO, stdin: TextIO)
 
 COMMANDS: dict[str, Callable[..., int]] = {
     "probe": cmd_probe,
+    "reset": cmd_reset,
     "read": cmd_read,
     "write": cmd_write,
     "time": cmd_time,

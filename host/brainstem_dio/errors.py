@@ -7,7 +7,7 @@
     │   └── ResyncError      an answer was lost in a framing error and its resync
     ├── Timeout              no answer within the call's timeout (also a TimeoutError)
     ├── ProtocolError        an answer that does not fit the request
-    ├── ModuleReset          the module reset while a timer result was awaited
+    ├── ModuleReset          the module reset (Module.reset() or a power-up) before it answered
     └── ModuleError          a message packet `A, 2, 0x80, code` the module sent
         ├── CmdInvalid (8) · CmdTooLong (9) · CmdIndexErr (10) · TmrConflict (15)
         ├── CmdTooShort (27) · SerialError (28) · ConfigErr (29)
@@ -51,8 +51,10 @@ class ProtocolError(BrainStemError):
 
 
 class ModuleReset(BrainStemError):
-    """The module sent its power-up message while a timer result was still awaited: the
-    measurement was lost with the reset."""
+    """The module reset before it answered: `Module.reset()` fails every call to the module
+    written before its cmdRESET (the module drops what it has not sent), and a power-up
+    message that nobody asked for fails the measurements whose start the module had
+    confirmed."""
 
 
 class ModuleError(BrainStemError):

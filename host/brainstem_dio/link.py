@@ -15,9 +15,28 @@ were written, per module address, and gives each arriving packet to the oldest o
   If the echo of a *later* echo call arrives first, the calls before it lost their answers
   and fail with ProtocolError.
 
-Timer results (`cmdDEV_VAL` with N = 4) go to whoever waits for that device ID, oldest first.
-Heartbeats are answered and shown to listeners only. The power-up message, cmdQOverflow and
-anything no call claims go to the unsolicited queue (or the `on_unsolicited` callback).
+* a *reset* call (`Module.reset`) ends at the power-up message (or cmdInvalid); every call
+  of that module written before it, and every timer wait whose PTIME_RD was, fails with
+  ModuleReset (the module drops what it has not yet sent).
+
+Timer results (`cmdDEV_VAL` with N = 4) are attributed per timer (address, device ID). The
+module runs one measurement per timer at a time, refuses a PTIME_RD while the timer is busy
+(tmrConflict), and sends the results of one timer in the order of the measurements. A result
+is given only to a wait whose start the module confirmed (the PTIME_RD's sync echo came back
+clean): the oldest such wait still waiting (a wait given up after its start was confirmed
+takes its late result, and sends it to the queue, only while no start is unconfirmed). A
+result that arrives while the timer has no such wait, but a start is unconfirmed, is held: it
+may be that start's own (a pulse shorter than the sync echo ends before the echo leaves).
+When a start is confirmed, every wait ahead of it on that timer is stale (the module sent all
+earlier results before it ran the PTIME_RD) and is dropped: a confirmed one still waiting
+whose result never came fails with ProtocolError. Of the results held, those that arrived
+before the PTIME_RD was written are not its own; the last one after it is, unless a wait
+ahead of it that was given up or never confirmed (a PTIME_RD whose call timed out or was
+lost in a resync) might have produced it: then it is the new measurement's only if no other
+result follows within the timer timeout (104.9 ms) plus CANDIDATE_SLACK of the
+confirmation. Heartbeats are answered and shown to listeners only. The power-up message,
+cmdQOverflow and anything no call claims go to the unsolicited queue (or the `on_unsolicited`
+callback).
 
 Thread safety: every public method of `Link` and `Module` may be called from any thread;
 calls from several threads are attributed correctly because a call is registered and written
@@ -57,6 +76,10 @@ DEFAULT_RESYNC_TIMEOUT = 0.25  # s to wait for the probe replies; doubled per re
 FLUSH_QUIET = 0.02  # s of silence that ends the flush before the probes
 FLUSH_MAX = 0.25  # s: the longest flush (as the original)
 OVERFLOW_HOLD = 1.5 * P.DEFAULT_RX_TIMEOUT_US * 1e-6  # s of silence after cmdQOverflow
+# s past the timer timeout after a confirmed start before a held result that an unconfirmed
+# earlier start might have produced is taken for the new measurement's (the module's output
+# may be busy with other packets, the reader polls every poll_interval).
+CANDIDATE_SLACK = 0.05
 
 
 class SerialLike(Protocol):
@@ -191,8 +214,11 @@ class Transaction:
 
 class TimerWaiter:
     """A wait for one timer result (cmdDEV_VAL, N = 4, device ID `dev_id`) from `addr`.
-    `state`: starting (PTIME_RD sent), running (its start confirmed), ghost (given up; its
-    result, should it come, goes to the unsolicited queue), done."""
+    `state`: starting (PTIME_RD sent), running (its start confirmed), ghost (confirmed, then
+    given up: its result, should it come, goes to the unsolicited queue), unconfirmed (the
+    start call ended without an answer: the measurement may or may not run; it is never
+    given a result), done. `candidate`: a result held for a running wait until it is clear
+    that it is not an unconfirmed start's (see the module docstring)."""
 
     def __init__(self, addr: int, dev_id: int) -> None:
         self.addr = addr
@@ -201,6 +227,10 @@ class TimerWaiter:
         self.result: Optional[Packet] = None
         self.exc: Optional[BaseException] = None
         self.event = threading.Event()
+        self.seq = -1  # the call that carries the PTIME_RD
+        self.mark = 0  # results of this timer received before the PTIME_RD was written
+        self.candidate: Optional[Packet] = None
+        self.candidate_until = 0.0
 
 
 def open_serial(port: str, baudrate: int, timeout: float, write_timeout: Optional[float]) -> Any:
@@ -314,6 +344,9 @@ class Link:
         self._send_lock = threading.RLock()
         self._pending: list[Transaction] = []
         self._timers: dict[tuple[int, int], Deque[TimerWaiter]] = {}
+        # Results held until a start is confirmed, numbered as counted in _timer_rx.
+        self._parked: dict[tuple[int, int], list[tuple[int, Packet]]] = {}
+        self._timer_rx: dict[tuple[int, int], int] = {}
         self._needs_sync: set[int] = set()
         self._seq = itertools.count()
         self._tags = itertools.cycle(range(256))
@@ -451,20 +484,26 @@ class Link:
         detached: bool = False,
         timer: Optional[TimerWaiter] = None,
         on_done: Optional[Callable[[Transaction], None]] = None,
+        reset: bool = False,
     ) -> Transaction:
         """Register a call and write its bytes `wire` (may be empty).
 
         With `expect` the call is a reply call: it ends at the first packet from `addr` that
         `expect` accepts, or at a message. Without, the link appends a tagged sync echo and
-        the call ends at that echo. `detached`: nobody waits; what the call collects goes
-        to the unsolicited queue. `timer`: a TimerWaiter registered with the call.
+        the call ends at that echo. `reset`: `wire` is a cmdRESET; the call ends at the
+        power-up message (or a message) and fails every call to `addr` written before it
+        with ModuleReset. `detached`: nobody waits; what the call collects goes to the
+        unsolicited queue. `timer`: a TimerWaiter registered with the call.
         `on_done(call)`: run when the call ends (in the thread that ends it)."""
         self._check_usable()
         with self._send_lock:
             with self._lock:
                 self._check_usable()
                 packets = [wire] if wire else []
-                if expect is None:
+                if reset:
+                    expect = _is_power_up
+                    kind = "reset"
+                elif expect is None:
                     echo = bytes([addr, 3, P.CMD_DEBUG, SYNC_MARK, next(self._tags)])
                     expect = exact_match(echo)
                     packets.append(echo)
@@ -476,7 +515,10 @@ class Link:
                     t._callbacks.append(on_done)
                 self._pending.append(t)
                 if timer is not None:
-                    self._timers.setdefault((addr, timer.dev_id), collections.deque()).append(timer)
+                    key = (addr, timer.dev_id)
+                    timer.seq = t.seq
+                    timer.mark = self._timer_rx.get(key, 0)
+                    self._timers.setdefault(key, collections.deque()).append(timer)
             try:
                 self._write_locked(b"".join(packets), packets, label, sync_last=kind == "echo")
             except LinkError:
@@ -490,52 +532,135 @@ class Link:
 
     def timer_started(self, w: TimerWaiter, t: Transaction) -> None:
         """The PTIME_RD call that carries `w` ended: a confirmed start, an error message (the
-        measurement never started), or no answer (it may have started: `w` becomes a ghost
-        so that its result, should it come, is not taken for a later measurement's)."""
+        measurement never started), or no answer (it may have started: `w` becomes
+        unconfirmed; it is never given a result, and the next confirmed start drops it)."""
         actions: list[Action] = []
+        unsolicited: list[Packet] = []
         with self._lock:
-            dq = self._timers.get((w.addr, w.dev_id))
+            key = (w.addr, w.dev_id)
+            dq = self._timers.get(key)
+            if w.state != "starting" or dq is None or w not in dq:
+                return  # ended meanwhile (a reset, the link closed)
             if t.exc is None and t.error is None:
-                if w.state == "starting":
-                    w.state = "running"
-                # A result of an earlier measurement on this pin left the module before this
-                # PTIME_RD ran (the timer was free), so a ghost still ahead of `w` lost its result.
-                for other in list(dq or ()):
-                    if other is w:
-                        break
-                    if other.state == "ghost":
-                        dq.remove(other)  # type: ignore[union-attr]
-                return
-            if w.result is not None:
-                return
-            if t.exc is None:  # an error message: nothing started
-                self._drop_timer(w)
+                self._confirmed(key, dq, w, actions, unsolicited)
+            elif t.exc is None:  # an error message: nothing started
                 assert t.error is not None
+                dq.remove(w)
+                w.state = "done"
                 w.exc = module_error(t.error, t.command)
+                actions.append(w.event.set)
             else:
-                w.state = "ghost"
+                w.state = "unconfirmed"
                 w.exc = t.exc
-            actions.append(w.event.set)
+                actions.append(w.event.set)
+            self._tidy(key, unsolicited)
         for act in actions:
             act()
+        self.put_unsolicited(unsolicited)
+
+    def _confirmed(
+        self, key: tuple[int, int], dq: Deque[TimerWaiter], w: TimerWaiter, actions: list[Action], unsolicited: list[Packet]
+    ) -> None:
+        """The module confirmed `w`'s start (lock held). It ran the PTIME_RD with the timer
+        free, so every earlier result of this timer had left before: the waits ahead of `w`
+        are stale, and of the results held, at most the last is `w`'s."""
+        w.state = "running"
+        unsure = 0  # waits ahead that may have sent a result after w's PTIME_RD was written
+        for old in list(itertools.takewhile(lambda o: o is not w, dq)):
+            dq.remove(old)
+            if old.state in ("unconfirmed", "ghost"):
+                unsure += 1
+            if old.state == "running":
+                if old.candidate is not None:  # nothing followed it: it was old's own
+                    self._deliver(old, old.candidate, actions)
+                else:
+                    old.state = "done"
+                    old.exc = ProtocolError(
+                        f"the result of module {w.addr}'s timer (device ID {w.dev_id}) was lost: the module"
+                        " has started the next measurement on that timer" + self.diagnosis()
+                    )
+                    actions.append(old.event.set)
+            elif old.candidate is not None:  # a ghost's
+                unsolicited.append(old.candidate)
+        held = self._parked.pop(key, [])
+        unsolicited.extend(p for n, p in held if n <= w.mark)  # before the PTIME_RD was written
+        after = [p for n, p in held if n > w.mark]
+        if not after:
+            return
+        unsolicited.extend(after[:-1])
+        if len(after) > unsure:
+            dq.remove(w)
+            self._deliver(w, after[-1], actions)
+        else:
+            w.candidate = after[-1]
+            w.candidate_until = time.monotonic() + P.TIMER_TIMEOUT_S + CANDIDATE_SLACK
+
+    def _deliver(self, w: TimerWaiter, p: Packet, actions: list[Action]) -> None:
+        w.state = "done"
+        w.result = p
+        w.candidate = None
+        actions.append(w.event.set)
+
+    def _tidy(self, key: tuple[int, int], unsolicited: list[Packet]) -> None:
+        """Forget an empty wait list; release held results once no start is unconfirmed
+        (each taking a given-up wait at the head along: results come in order)."""
+        dq = self._timers.get(key)
+        if not any(o.state == "starting" for o in dq or ()):
+            for _, p in self._parked.pop(key, []):
+                if dq and dq[0].state == "ghost":
+                    dq.popleft()
+                unsolicited.append(p)
+        if dq is not None and not dq:
+            del self._timers[key]
+
+    def _settle_candidate(self, w: TimerWaiter, now: float, actions: list[Action]) -> bool:
+        """Give a running wait its held result once nothing followed it in time (lock held)."""
+        if w.candidate is None or w.state != "running" or now < w.candidate_until:
+            return False
+        dq = self._timers.get((w.addr, w.dev_id))
+        if dq is not None and w in dq:
+            dq.remove(w)
+            if not dq:
+                del self._timers[(w.addr, w.dev_id)]
+        self._deliver(w, w.candidate, actions)
+        return True
 
     def wait_timer(self, w: TimerWaiter, timeout: Optional[float]) -> Packet:
         """The result packet for `w`. Raises `Timeout` if it does not come in time (a result
         that comes later goes to the unsolicited queue)."""
         self._check_not_reader()
-        if not w.event.wait(timeout):
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            actions: list[Action] = []
             with self._lock:
-                if w.result is None and w.exc is None:
-                    w.state = "ghost"
-                    raise Timeout(
-                        f"no timer result from module {w.addr} (device ID {w.dev_id}) within"
-                        f" {timeout:.3g} s" + self.diagnosis()
-                    )
-            w.event.wait()
+                self._settle_candidate(w, time.monotonic(), actions)
+                until = w.candidate_until if w.candidate is not None else None
+            for act in actions:
+                act()
+            ends = [x for x in (deadline, until) if x is not None]
+            left = None if not ends else max(0.0, min(ends) - time.monotonic())
+            if w.event.wait(left):
+                break
+            if deadline is not None and time.monotonic() >= deadline:
+                with self._lock:
+                    if w.result is None and w.exc is None:
+                        w.state = "ghost"
+                        raise Timeout(
+                            f"no timer result from module {w.addr} (device ID {w.dev_id}) within"
+                            f" {timeout:.3g} s" + self.diagnosis()
+                        )
+                w.event.wait()
+                break
         if w.result is not None:
             return w.result
         assert w.exc is not None
         raise w.exc
+
+    def mark_needs_sync(self, addr: int) -> None:
+        """Make the next call to `addr` sync first (a reply did not fit: the stream may hold
+        answers that are not the next call's)."""
+        with self._lock:
+            self._needs_sync.add(addr)
 
     def take_needs_sync(self, addr: int) -> bool:
         """Whether a call to `addr` timed out since the last sync; clears the flag."""
@@ -682,12 +807,17 @@ class Link:
         with self._lock:
             if p.cmd == P.CMD_DEV_VAL and p.n == 4:
                 note = self._timer_result(p, unsolicited, actions)
+            elif p.is_message and p.message_code == P.MSG_STATE_POWER_RESET:
+                r = next((t for t in self._pending if t.addr == p.addr and t.kind == "reset"), None)
+                if r is not None:
+                    self._reset_done(r, p, actions, unsolicited)
+                    note = r.label
+                else:
+                    unsolicited.append(p)
+                    self._module_reset(p.addr, actions, unsolicited)
             elif p.is_message and p.message_code in P.UNSOLICITED_MESSAGES:
                 unsolicited.append(p)
-                if p.message_code == P.MSG_STATE_POWER_RESET:
-                    self._module_reset(p.addr, actions)
-                else:
-                    self._hold_until = time.monotonic() + OVERFLOW_HOLD
+                self._hold_until = time.monotonic() + OVERFLOW_HOLD
             else:
                 t = self._attribute(p, actions, unsolicited)
                 if t is not None:
@@ -711,7 +841,12 @@ class Link:
             self._complete(head, actions, unsolicited)
             return head
         if p.is_message:
-            if head.kind == "reply":
+            if head.kind == "reset" and p.message_code != P.MSG_CMD_INVALID:
+                # A late answer of a call that timed out (reset() does not sync first);
+                # cmdInvalid is the answer of a module without cmdRESET.
+                unsolicited.append(p)
+                return None
+            if head.kind != "echo":
                 head.error = p
                 self._complete(head, actions, unsolicited)
             else:
@@ -745,35 +880,76 @@ class Link:
 
     def _timer_result(self, p: Packet, unsolicited: list[Packet], actions: list[Action]) -> str:
         key = (p.addr, p.data[1])
+        n = self._timer_rx.get(key, 0) + 1
+        self._timer_rx[key] = n
         dq = self._timers.get(key)
-        if not dq:
-            unsolicited.append(p)
-            return "unsolicited timer result"
-        w = dq.popleft()
-        if not dq:
-            del self._timers[key]
-        if w.state == "ghost":
-            unsolicited.append(p)
-            return "late timer result"
-        w.state = "done"
-        w.result = p
-        actions.append(w.event.set)
-        return "timer result"
+        starting = bool(dq) and any(o.state == "starting" for o in dq)  # type: ignore[union-attr]
+        while dq:
+            w = dq[0]
+            if w.state == "running" and self._settle_candidate(w, time.monotonic(), actions):
+                continue  # the held result was w's; this one is a later measurement's
+            # A given-up measurement takes its late result, unless a start is unconfirmed:
+            # its result was perhaps lost on the line and this is the new measurement's.
+            if w.state != "running" and not (w.state == "ghost" and not starting):
+                break
+            dq.popleft()
+            if not dq:
+                del self._timers[key]
+            if w.candidate is not None:  # a result after w's start was confirmed is w's
+                unsolicited.append(w.candidate)
+                w.candidate = None
+            if w.state == "ghost":
+                unsolicited.append(p)
+                return "late timer result"
+            self._deliver(w, p, actions)
+            return "timer result"
+        if starting:
+            self._parked.setdefault(key, []).append((n, p))
+            return "timer result (held until its start is confirmed)"
+        unsolicited.append(p)
+        return "unsolicited timer result"
 
-    def _module_reset(self, addr: int, actions: list[Action]) -> None:
-        """The module reset: the measurements it had confirmed are gone."""
+    def _module_reset(self, addr: int, actions: list[Action], unsolicited: list[Packet]) -> None:
+        """The module reset on its own: the measurements it had confirmed are gone (a start
+        not yet confirmed may have been sent after the reset and stays)."""
         for key, dq in list(self._timers.items()):
             if key[0] != addr:
                 continue
             for w in list(dq):
-                if w.state == "ghost":
+                if w.state in ("ghost", "unconfirmed"):
                     dq.remove(w)
                 elif w.state == "running":
                     dq.remove(w)
+                    w.state = "done"
                     w.exc = ModuleReset(f"module {addr} reset during the measurement")
                     actions.append(w.event.set)
-            if not dq:
-                del self._timers[key]
+            self._tidy(key, unsolicited)
+        for key in [k for k in self._parked if k[0] == addr]:
+            unsolicited.extend(p for _, p in self._parked.pop(key))
+
+    def _reset_done(self, r: Transaction, p: Packet, actions: list[Action], unsolicited: list[Packet]) -> None:
+        """The power-up message that answers the cmdRESET call `r` (lock held). The module
+        dropped everything it had not sent: every call to it written before `r` and every
+        timer wait whose PTIME_RD was fail with ModuleReset."""
+        addr = r.addr
+        for t in [t for t in self._pending if t.addr == addr and t.seq < r.seq]:
+            t.exc = ModuleReset(f"module {addr} was reset before it answered {t.label}")
+            self._complete(t, actions, unsolicited)
+        for key, dq in list(self._timers.items()):
+            if key[0] != addr:
+                continue
+            for w in [w for w in dq if w.seq < r.seq]:
+                dq.remove(w)
+                if w.state in ("starting", "running"):
+                    w.exc = ModuleReset(f"module {addr} was reset during the measurement")
+                    actions.append(w.event.set)
+                w.state = "done"
+            self._tidy(key, unsolicited)
+        for key in [k for k in self._parked if k[0] == addr]:
+            unsolicited.extend(q for _, q in self._parked.pop(key))
+        self._needs_sync.discard(addr)
+        r.reply = p
+        self._complete(r, actions, unsolicited)
 
     def _drop_timer(self, w: Optional[TimerWaiter]) -> None:
         if w is None:
@@ -818,6 +994,7 @@ class Link:
             calls = list(self._pending)
             waiters = [w for dq in self._timers.values() for w in dq]
             self._timers.clear()
+            self._parked.clear()
             for w in waiters:
                 if w.result is None and w.exc is None:
                     w.exc = exc
@@ -844,6 +1021,10 @@ class Link:
                 fn(ev)
             except Exception:  # noqa: BLE001
                 log.exception("brainstem_dio: listener failed")
+
+
+def _is_power_up(p: Packet) -> bool:
+    return p.is_message and p.message_code == P.MSG_STATE_POWER_RESET
 
 
 def exact_match(wire: bytes) -> Callable[[Packet], bool]:

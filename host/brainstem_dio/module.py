@@ -17,6 +17,10 @@ How long a call waits, and for what:
 * A call that gets no answer in time raises `Timeout`. The next call to that module first
   sends an echo and waits for it, so that a late answer to the call that timed out is not
   taken for the new call's (it goes to the unsolicited queue instead).
+* Every reply is checked against the contract before it is decoded (`_check_*` below): the
+  pin and device ID the call asked for, a level of 0 or 1, DIGCFG bits 6:5 zero, FIXED the
+  same as the first time the pin was seen, a message code a command can cause. A reply that
+  does not fit raises ProtocolError naming its bytes, and the next call syncs first.
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterable, Optional, Sequence, Union
 
 from . import protocol as P
-from .errors import ProtocolError, module_error
+from .errors import ModuleReset, ProtocolError, module_error
 from .framing import Packet
 from .link import Link, TimerWaiter, Transaction, exact_match
 
@@ -127,7 +131,7 @@ class Pending:
         if t.exc is not None:
             return t.exc
         if t.error is not None:
-            return module_error(t.error, t.command, [p for p in t.packets if p is not t.error])
+            return self._module._message_error(t)
         return None
 
 
@@ -188,6 +192,7 @@ class Module:
         self._owns_link = owns_link
         self._unchecked: list[Pending] = []
         self._lock = threading.Lock()
+        self._fixed: dict[int, bool] = {}  # FIXED of each pin, as first seen in a query reply
 
     def __repr__(self) -> str:
         return f"<Module {self.addr} on {self.link.port_name}>"
@@ -235,8 +240,18 @@ class Module:
 
         reply = self._reply(data, expect, f"query pin {pin}", timeout)
         if reply.data[1] != pin:
-            raise ProtocolError(f"module {self.addr} answered a query of pin {pin} with pin {reply.data[1]}")
-        return DigCfg.from_byte(reply.data[2])
+            self._bad_reply(reply, f"a query of pin {pin}", f"it names pin {reply.data[1]}")
+        value = reply.data[2]
+        if value & P.DIGCFG_RESERVED:
+            self._bad_reply(reply, f"a query of pin {pin}", f"DIGCFG 0x{value:02X} has reserved bits 6:5 set")
+        fixed = bool(value & P.DIGCFG_FIXED)
+        with self._lock:
+            seen = self._fixed.setdefault(pin, fixed)
+        if seen != fixed:
+            self._bad_reply(
+                reply, f"a query of pin {pin}", f"FIXED is {int(fixed)}, but it was {int(seen)} before (it never changes)"
+            )
+        return DigCfg.from_byte(value)
 
     def update_config(self, pin: int, *, timeout: Optional[float] = None, **changes: bool) -> DigCfg:
         """Query the pin, change the named `DigCfg` fields, configure it; returns the new
@@ -263,10 +278,13 @@ class Module:
 
         reply = self._reply(bytes([P.CMD_DIG_IO, devcode]), expect, f"read pin {pin}", timeout)
         if reply.data[1] != dev_id:
-            raise ProtocolError(
-                f"module {self.addr} answered a read of pin {pin} with device ID {reply.data[1]},"
-                f" not {dev_id} (is pin_id_base {self.pin_id_base} right?)"
+            self._bad_reply(
+                reply,
+                f"a read of pin {pin}",
+                f"device ID {reply.data[1]}, not {dev_id} (is pin_id_base {self.pin_id_base} right?)",
             )
+        if reply.data[2] not in (0, 1):
+            self._bad_reply(reply, f"a read of pin {pin}", f"level {reply.data[2]} (a level is 0 or 1)")
         return reply.data[2]
 
     def rearm(self, pin: int, *, wait: bool = True, timeout: Optional[float] = None) -> Optional[Pending]:
@@ -331,6 +349,24 @@ class Module:
         self._finish(t, timeout)
         return time.monotonic() - start
 
+    def reset(self, *, timeout: Optional[float] = None) -> None:
+        """cmdRESET `24`: the module returns to its power-up state (every pin an input,
+        nothing armed, output latches 0, timers stopped, heartbeat restarting) and answers
+        with the power-up message `A, 2, 0x80, 4`, for which this waits. The module drops
+        everything it had not yet sent, so every call to it still waiting (from any thread:
+        replies, `wait=False` commands, timer results) fails with `ModuleReset`; the errors of
+        `wait=False` commands are not raised again by `sync()`. Raises CmdInvalid from a
+        module without cmdRESET, and `Timeout` if the power-up message does not come. It
+        does not sync first, even after a Timeout: a module that stopped answering echoes
+        can still be reset, and what it had not sent is dropped anyway."""
+        data = bytes([P.CMD_RESET])
+        t = self.link.submit(self.addr, self._packet(data), command=data, label="reset", reset=True)
+        self._finish(t, timeout)
+        with self._lock:
+            self._unchecked = [
+                pend for pend in self._unchecked if not (pend.done() and isinstance(pend._t.exc, ModuleReset))
+            ]
+
     def sync(self, *, timeout: Optional[float] = None) -> None:
         """Send an echo and wait for it: everything sent before has then been executed.
         Raises the first error no call has reported yet: a message caused by a raw `send`,
@@ -344,7 +380,7 @@ class Module:
             raise t.exc
         errors = [p for p in t.packets if p.is_message]
         self.link.put_unsolicited([p for p in t.packets if not p.is_message] + errors[1:])
-        failures: list[BaseException] = [module_error(errors[0])] if errors else []
+        failures: list[BaseException] = [self._message_exception(errors[0], None, [])] if errors else []
         with self._lock:
             keep: list[Pending] = []
             for pend in self._unchecked:
@@ -384,7 +420,7 @@ class Module:
         if t.exc is not None:
             raise t.exc
         if check and t.error is not None:
-            raise module_error(t.error, command, [p for p in t.packets if p is not t.error])
+            raise self._message_error(t)
         return list(t.packets)
 
     def send(self, data: Union[bytes, Iterable[int]], *, n: Optional[int] = None) -> None:
@@ -445,8 +481,30 @@ class Module:
         if t.exc is not None:
             raise t.exc
         if t.error is not None:
-            raise module_error(t.error, t.command, [p for p in t.packets if p is not t.error])
+            raise self._message_error(t)
         return t.reply
+
+    def _message_error(self, t: Transaction) -> BaseException:
+        assert t.error is not None
+        return self._message_exception(t.error, t.command, [p for p in t.packets if p is not t.error])
+
+    def _message_exception(self, msg: Packet, command: Optional[bytes], others: list[Packet]) -> BaseException:
+        """The exception for a message a call received: its ModuleError, or ProtocolError for
+        a code no command causes (PROTOCOL.md §2)."""
+        if msg.message_code not in P.COMMAND_MESSAGES:
+            self.link.mark_needs_sync(self.addr)
+            what = "a call" if command is None else P.format_packet(self.addr, command)
+            return ProtocolError(
+                f"module {self.addr} answered {what} with {_hex(msg)}: message code {msg.message_code}"
+                " is not one a command can cause"
+            )
+        return module_error(msg, command, others)
+
+    def _bad_reply(self, reply: Packet, call: str, why: str) -> None:
+        """Raise ProtocolError for a reply that breaks the contract; the next call syncs
+        first, since a reply that does not fit may be a sign of a garbled stream."""
+        self.link.mark_needs_sync(self.addr)
+        raise ProtocolError(f"module {self.addr} answered {call} with {_hex(reply)}: {why}")
 
     def _reply(self, data: bytes, expect: Callable[[Packet], bool], label: str, timeout: Optional[float]) -> Packet:
         reply = self._finish(self._submit(data, expect, label), timeout)
@@ -478,6 +536,11 @@ class Module:
         with self._lock:
             if pend in self._unchecked:
                 self._unchecked.remove(pend)
+
+
+def _hex(p: Packet) -> str:
+    """A packet's bytes as on the wire: `02 03 04 05 11`."""
+    return " ".join(f"{b:02X}" for b in p.to_bytes())
 
 
 def _byte(value: int, what: str) -> int:

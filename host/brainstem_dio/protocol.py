@@ -18,7 +18,7 @@ from typing import Sequence
 # Generated from the project's one protocol table (tools/protocol.toml); see that file.
 from ._protocol_table import (  # noqa: E402,F401  (re-exported: the library's constants)
     ADDR_RESYNC, CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB, CMD_MSG,
-    CMD_MAX_N, CMD_MIN_N, CMD_PTIME_RD, COMMANDS, DEFAULT_MODULE_ADDR, DEFAULT_NUM_PINS,
+    CMD_MAX_N, CMD_MIN_N, CMD_PTIME_RD, CMD_RESET, COMMANDS, DEFAULT_MODULE_ADDR, DEFAULT_NUM_PINS,
     DEFAULT_PIN_ID_BASE, DEFAULT_RX_TIMEOUT_US, DEFAULT_TIMER_ID_BASE, DEFAULT_TIMER_MASK,
     DEFAULT_TRANS_ID_BASE, DEV_ID_LIMIT, DEVCODE_HOST, DEVCODE_PIN, DEVCODE_RFLX, DIGCFG_ENA,
     DIGCFG_FIXED, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED, DIGCFG_TMODE, DIGCFG_TRG,
@@ -33,6 +33,8 @@ from ._protocol_table import (  # noqa: E402,F401  (re-exported: the library's c
 TICK_S = 1.0 / TICK_HZ
 TIMER_TIMEOUT_S = TIMER_MAX_TICKS * TICK_S  # 104.856 ms
 HB_UNIT_S = HB_UNIT_TICKS * TICK_S  # 25.6 ms
+# DIGCFG bits 6:5: always 0 in a reply (§3), every bit that is neither FIXED nor stored.
+DIGCFG_RESERVED = 0xFF & ~(DIGCFG_FIXED | DIGCFG_STORED)
 
 
 COMMAND_NAMES = COMMANDS

@@ -116,11 +116,16 @@ class FakeModule:
 
     The model follows PROTOCOL.md: framing (N > 8 -> serialError to its own address, the
     resync probe, other addresses ignored, the inter-byte timeout), every command and its
-    errors with their precedence, the cmdDEBUG echo, timers (a started measurement completes
+    errors with their precedence, the cmdDEBUG echo, cmdRESET (any N: back to the power-up
+    state, running timers stopped, the power-up message as its answer; `resets` counts them),
+    timers (a started measurement completes
     after `timer_delay` s with `timer_results[pin]` ticks, or times out with 0 after
     `timer_timeout_s` when that is None), heartbeats on demand, and answers recorded.
 
     Knobs for tests: `mute` (answer nothing), `reply_delay` (s before each answer),
+    `instant_timers` (a measurement with a result in `timer_results` completes at once: its
+    result leaves before anything the next packet causes, as the core's does for a pulse
+    shorter than the bytes of the PTIME_RD's sync echo),
     `inject(raw)` (send bytes to the host), `on_packet` (a hook given each host packet;
     returning True means it was handled)."""
 
@@ -153,6 +158,7 @@ class FakeModule:
         self.busy: set[int] = set()
         self.timer_results: dict[int, Optional[int]] = {}
         self.timer_delay = 0.005
+        self.instant_timers = False
         self.timer_timeout_s = P.TIMER_TIMEOUT_S
         self.reply_delay = 0.0
         self.mute = False
@@ -168,6 +174,9 @@ class FakeModule:
         self._pkt = bytearray()
         self._last = 0.0
         self._timers: list[threading.Timer] = []
+        self._epoch = 0  # counts resets: a timer started before one never reports
+        self.resets = 0
+        self.knows_reset = True  # False: a module without cmdRESET (cmdInvalid)
         self._thread = threading.Thread(target=self._run, name="fake-module", daemon=True)
         self._power_up = power_up
 
@@ -276,6 +285,12 @@ class FakeModule:
         if cmd == P.CMD_DEBUG:
             self._answer(bytes([self.addr, len(d)]) + d)
             return
+        if cmd == P.CMD_RESET:
+            if self.knows_reset:
+                self._reset()
+            else:
+                self._msg(P.MSG_CMD_INVALID)
+            return
         longest = P.CMD_MAX_N.get(cmd)
         if longest is None:
             self._msg(P.MSG_CMD_INVALID)
@@ -294,6 +309,19 @@ class FakeModule:
             self._msg(error)
         elif len(d) > longest:
             self._msg(P.MSG_CMD_TOO_LONG)
+
+    def _reset(self) -> None:
+        with self._send_lock:  # no timer result may slip out between the reset and its answer
+            self._epoch += 1
+            self.resets += 1
+            for t in self._timers:
+                t.cancel()
+            self._timers = []
+            self.busy.clear()
+            self.cfg = [(self.fixed[p] & 0x1F) if p in self.fixed else P.DIGCFG_RESET for p in range(self.num_pins)]
+            self.out_latch = [0] * self.num_pins
+            self._hb_next = P.HB_UP
+        self._answer(bytes([self.addr, 2, P.CMD_MSG, P.MSG_STATE_POWER_RESET]))
 
     def _is_input(self, pin: int) -> bool:
         return bool(self.cfg[pin] & P.DIGCFG_IODIR)
@@ -337,17 +365,26 @@ class FakeModule:
             return P.MSG_TMR_CONFLICT
         self.busy.add(pin)
         ticks = self.timer_results.get(pin)
+        if self.instant_timers and ticks is not None:
+            self._timer_done(pin, ticks, bool(devcode & P.DEVCODE_HOST), self._epoch)
+            return None
         delay = self.timer_timeout_s if ticks is None else self.timer_delay
-        t = threading.Timer(delay, self._timer_done, (pin, ticks or 0, bool(devcode & P.DEVCODE_HOST)))
+        t = threading.Timer(delay, self._timer_done, (pin, ticks or 0, bool(devcode & P.DEVCODE_HOST), self._epoch))
         t.daemon = True
         self._timers.append(t)
         t.start()
         return None
 
-    def _timer_done(self, pin: int, ticks: int, host: bool) -> None:
-        if host and not self.mute:
-            self._send(bytes([self.addr, 4, P.CMD_DEV_VAL, self.timer_id_base + pin, ticks >> 8, ticks & 0xFF]))
-        self.busy.discard(pin)
+    def _timer_done(self, pin: int, ticks: int, host: bool, epoch: int) -> None:
+        with self._send_lock:
+            if epoch != self._epoch:
+                return  # stopped by a reset
+            if host and not self.mute:
+                try:
+                    self.port.write(bytes([self.addr, 4, P.CMD_DEV_VAL, self.timer_id_base + pin, ticks >> 8, ticks & 0xFF]))
+                except OSError:
+                    pass
+            self.busy.discard(pin)
 
 
 class FakeServer:

@@ -271,3 +271,29 @@ def test_help_lists_every_command(capsys):
     out = capsys.readouterr().out
     for command in ("console", "probe", "read", "write", "time", "config", "watch", "--baud", "--addr"):
         assert command in out
+
+
+# ---- reset ----
+
+
+def test_reset_command(fake_port):
+    rc, out = run(["reset", "fake"])
+    assert rc == 0, out
+    assert re.fullmatch(r"module 2 reset: power-up message after [\d.]+ ms\n", out), out
+    (fake,) = fake_port
+    assert fake.resets == 1 and fake.packets_with(24) == [b"\x18"]
+
+
+def test_reset_command_without_an_answer(fake_port, capsys):
+    rc, out = run(["reset", "mute", "--timeout", "0.05"])
+    assert rc == 1 and out == ""
+    assert "no answer from module 2" in capsys.readouterr().err
+
+
+def test_reset_in_the_console(fake_port):
+    rc, out = run(["console", "fake", "--linger", "0"], "config 1 output\nreset\nquery 1\nreset 1\n")
+    assert rc == 0
+    assert "= ok (the module sent its power-up message)" in out
+    assert "= 0x01 input" in out  # pin 1 is an input again
+    assert "? reset takes no argument" in out
+    assert fake_port[0].resets == 1

@@ -404,3 +404,25 @@ def test_concurrent_timer_waits_from_threads(rig):
         t.join(5)
     assert results == {1: 11, 2: 22, 3: 33, 4: 44}
     assert wait_for(lambda: not fake.busy)
+
+
+def test_a_lost_timer_start_does_not_break_the_pin(rig):
+    """A PTIME_RD the module never ran (a packet to module 4 whose 8 data bytes swallow it and
+    its sync echo) must not take the next measurements' results: with a pulse shorter than
+    the sync echo, each result arrives before its start is confirmed."""
+    m, fake = rig(mod_timeout=0.2)
+    assert m.receive(1.0) == Packet.of(2, 0x80, 4)
+    fake.instant_timers = True
+    m.link.send_bytes(bytes([4, 8]))
+    outcomes: list[object] = []
+    for i in range(5):
+        fake.timer_results[4] = 100 + i  # each measurement its own value
+        try:
+            outcomes.append(m.time_pin(4).ticks)
+        except brainstem_dio.Timeout:
+            outcomes.append("Timeout")
+    assert outcomes[0] in ("Timeout", 100)
+    assert outcomes[1:] == [101, 102, 103, 104], outcomes
+    strays = [p for p in m.drain() if p.cmd == P.CMD_DEV_VAL]
+    assert strays == [], strays
+    assert m.link._timers == {}

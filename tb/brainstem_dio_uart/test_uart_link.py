@@ -40,6 +40,7 @@ from bsd_model import (
     CMD_DIG_RST,
     CMD_HB,
     CMD_PTIME_RD,
+    CMD_RESET,
     DEVCODE_HOST,
     DEVCODE_RFLX,
     DIGCFG_ENA,
@@ -487,6 +488,40 @@ async def test_heartbeat_host(dut) -> None:
         # The host sees a heartbeat when its first byte has arrived (9.5 bits after its start).
         late = t - host.t_reset - k * period_ps
         assert 0 <= late <= tol, f"heartbeat {k} {late / 1e6:.1f} us after its due time"
+    host.check_line()
+
+
+@SUITE.test("b115200")
+async def test_reset_with_queue(dut) -> None:
+    """cmdRESET over the serial line with commands queued behind it in the RX FIFO (one
+    back-to-back burst): the power-up message first, then every queued command's reply as
+    the model's, no byte dropped; link_up falls with the reset, and the heartbeat starts
+    again from UP one period after it."""
+    host, m, strobes, rng = await setup(dut, pins=0b10101 & ((1 << P.num_pins) - 1))
+    period_ps = round(P.hb_rate * HB_UNIT_S * 1e12)
+    await Timer(host.t_reset + round(1.5 * period_ps) - now_ps(), unit="ps")
+    assert int(dut.link_up.value) == 1, "heartbeat 1 answered: the link is up"
+    for pin in (1, 3):
+        await host.command(m, packet(A, CMD_DIG_CFG, pin, 0x00))
+    n_rx, n_hb = len(strobes.rx), len(host.heartbeats)
+    burst = packet(A, CMD_RESET, *rng.randbytes(rng.randrange(MAX_DATA)))
+    reset_len = len(burst)
+    for i in range(12):
+        burst += random_command(rng, reply=(i % 2 == 0))
+    exp = m.feed(burst)
+    await host.send(burst)
+    await host.expect(exp.packets, "cmdRESET with commands queued behind it", extra_frames=20)
+    assert strobes.kept(n_rx).startswith(burst) and not strobes.dropped(n_rx), "a byte was lost"
+    assert (int(dut.pin_oe.value), int(dut.pin_o.value)) == (m.pin_oe(), m.pin_o())
+    assert int(dut.link_up.value) == 0, "link_up after cmdRESET, before a heartbeat is answered"
+    # The reset took effect a few clocks after its last byte left the UART receiver.
+    t_rst = strobes.rx[n_rx + reset_len - 1][0]
+    while len(host.heartbeats) < n_hb + 1:
+        await Timer(BIT_PS, unit="ps")
+    t_hb, kind = host.heartbeats[n_hb]
+    assert kind == 0, "the first heartbeat after cmdRESET is UP"
+    late = t_hb - t_rst - period_ps
+    assert 0 <= late <= 2 * FRAME_PS + 20 * PERIOD_PS, f"first heartbeat {late / 1e6:.1f} us off"
     host.check_line()
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import pytest
 
 from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB,
-                          CMD_MSG, CMD_PTIME_RD, DEVCODE_HOST, DEVCODE_PIN, DEVCODE_RFLX,
+                          CMD_MSG, CMD_PTIME_RD, CMD_RESET, DEVCODE_HOST, DEVCODE_PIN, DEVCODE_RFLX,
                           DIGCFG_FIXED, DIGCFG_IODIR, DIGCFG_STORED, HB_ANSWER_OFFSET, HB_DOWN,
                           HB_UP, KIND_CMD, KIND_PROBE, KIND_SERIAL, MAX_N, MSG_CMD_INDEX_ERR,
                           MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR,
@@ -44,7 +44,7 @@ SUITE = Suite(__file__, "bsd_exec", {
 }, quick=on("icarus"))
 
 ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "hb_answer_o",
-          "reply_o", "dio_rflx_o")
+          "reply_o", "dio_rflx_o", "soft_reset_o")
 
 
 def vint(v: object) -> int:
@@ -97,8 +97,10 @@ class ExecModel:
         elif d0 == CMD_HB:
             if n >= 2 and d1 in (HB_UP + HB_ANSWER_OFFSET, HB_DOWN + HB_ANSWER_OFFSET):
                 e.update(hb_answer_o=1, hb_answer_down_o=int(d1 == HB_DOWN + HB_ANSWER_OFFSET))
-        elif d0 not in (CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
+        elif d0 not in (CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD):
             msg(MSG_CMD_INVALID)
+        elif d0 == CMD_RESET:  # any N; the reset's power-up message is its answer
+            e["soft_reset_o"] = 1
         elif d0 == CMD_DEBUG:  # the echo, any N from 1 to 8, never cmdTooShort or cmdTooLong
             tail = [(v["pkt_tail_i"] >> (32 - 8 * j)) & 0xFF for j in range(5)]
             reply(*([d0, d1, d2] + tail)[:n])
@@ -426,7 +428,7 @@ async def test_random_vs_model(dut) -> None:
     tb = ExecTB(dut)
     rng = tb.rng
     await tb.reset()
-    codes = [CMD_HB, CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD]
+    codes = [CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD]
     strobes = 0
     for _ in range(2500):
         kind = rng.choice([KIND_CMD] * 8 + [KIND_PROBE, KIND_SERIAL])

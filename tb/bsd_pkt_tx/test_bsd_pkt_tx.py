@@ -29,7 +29,7 @@ def item(kind: int, idx: int = 0, dev_id: int = 0, result: int = 0) -> int:
 
 
 class TxTB(ClockedTB):
-    INPUTS = dict(item_valid_i=0, item_data_i=0, rep_n_i=0, rep_data_i=0, rep_tail_i=0,
+    INPUTS = dict(flush_i=0, item_valid_i=0, item_data_i=0, rep_n_i=0, rep_data_i=0, rep_tail_i=0,
                   hb_type_i=0, m_axis_tready=1)
     OUTPUTS = ("item_ready_o", "free_o", "timer_done_o", "timer_idx_o", "reply_done_o", "hb_done_o",
                "m_axis_tdata", "m_axis_tvalid", "m_axis_tlast")

@@ -33,6 +33,7 @@ from brainstem_dio import (  # noqa: E402
     CmdTooShort,
     ConfigErr,
     DigCfg,
+    ModuleReset,
     PortError,
     SerialError,
     TmrConflict,
@@ -166,6 +167,55 @@ def test_tmr_conflict(m: brainstem_dio.Module) -> None:
     assert handle is not None and handle.result(TIMEOUT).timed_out
 
 
+def test_a_lost_timer_start_does_not_break_the_pin(target: Target) -> None:
+    """A PTIME_RD the module never ran (`04 08`: a packet to module 4 whose 8 data bytes are
+    the next call's PTIME_RD and most of its sync echo) must not cost the pin its later
+    measurements. Pin 4 sees a 100 us low pulse every 200 us, so each result leaves before
+    the sync echo that confirms its start (5 bytes at 115 200 baud: 434 us)."""
+    v = target.need_virtual("a pulse train on pin 4")
+    with brainstem_dio.open(target.port, A, baudrate=target.baud, timeout=0.5) as mod:
+        mod.sync()
+        mod.configure(4, timer_width=True)  # width of a low pulse
+        mark = len(v.out)
+        v.send(*(["pin 4 pulse 100us", "wait 100us"] * 15000), "pin 4 high")  # 3 s of pulses
+        v.out.wait(r"\] pin 4 pulse low", mark)
+        try:
+            mod.link.send_bytes(bytes([4, 8]))
+            outcomes: list[object] = []
+            for _ in range(5):
+                try:
+                    outcomes.append(mod.time_pin(4).ticks)
+                except brainstem_dio.Timeout:
+                    outcomes.append("Timeout")
+            # 100 us = 62.5 ticks, plus the synchronizer's latency.
+            right = [isinstance(t, int) and abs(t - 63) <= 2 for t in outcomes]
+            assert (right[0] or outcomes[0] == "Timeout") and right[1:] == [True] * 4, outcomes
+            strays = [p for p in mod.drain() if p.cmd == 4]
+            assert strays == [], strays
+        finally:
+            v.out.wait(r"\] pin 4 high", mark)
+            restore(mod, 4)
+
+
+def test_reset(m: brainstem_dio.Module, target: Target) -> None:
+    """cmdRESET: the power-up message answers it, a running measurement fails with
+    ModuleReset (its timer stops: no result later), every pin is an input again."""
+    m.configure(1, output=True)
+    m.write(1, 1)
+    m.configure(2, latch=True, timer_width=True)
+    m.configure(3)  # edge timer to low; the pad stays high: it would run to its timeout
+    handle = m.start_timer(3)
+    assert handle is not None
+    m.reset()
+    with pytest.raises(ModuleReset):
+        handle.result(TIMEOUT)
+    assert [m.query(pin) for pin in range(5)] == [DigCfg()] * 5
+    time.sleep(TIMER_TIMEOUT_S + 0.05)
+    m.sync()
+    assert [p for p in m.drain() if p.cmd == 4] == []  # the stopped timer sent nothing
+    assert m.time_pin(3, timeout=TIMEOUT).timed_out  # and is free again
+
+
 def test_serial_error_raw(m: brainstem_dio.Module) -> None:
     with pytest.raises(SerialError):
         m.request(b"", n=9)  # 02 09: N > 8
@@ -275,6 +325,12 @@ def test_cli_time(target: Target) -> None:
     r = cli(target.port, "time", "4", "--edge", "--low", baud=target.baud)
     assert r.returncode == 0, r.stderr
     assert "pin 4: timeout" in r.stdout
+
+
+def test_cli_reset(target: Target) -> None:
+    r = cli(target.port, "reset", baud=target.baud)
+    assert r.returncode == 0, r.stderr
+    assert re.fullmatch(r"module 2 reset: power-up message after [\d.]+ ms\n", r.stdout), r.stdout
 
 
 def test_cli_watch(target: Target) -> None:

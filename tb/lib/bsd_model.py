@@ -37,6 +37,7 @@ from bsd_protocol import (
     CMD_MAX_N,
     CMD_MSG,
     CMD_PTIME_RD,
+    CMD_RESET,
     DEFAULTS,
     DEVCODE_HOST,
     DEVCODE_PIN,
@@ -362,6 +363,11 @@ class Model:
             return
         if cmd == CMD_DEBUG:
             out.packets.append(packet(self.p.module_addr, *d))
+            return
+        if cmd == CMD_RESET:
+            # Any N; the power-up message is its answer. What the core had not yet sent is
+            # dropped, which the caller's expectations must leave out (DESIGN.md).
+            out.extend(self.reset())
             return
         longest = CMD_LONGEST.get(cmd)
         if longest is None:

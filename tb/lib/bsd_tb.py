@@ -9,7 +9,8 @@ hands out (`now_s`, acceptance times, packet times) is in core seconds.
 
 Sampling discipline: everything is driven right after a rising edge and sampled in
 ReadOnly() of the same time step, i.e. the values the *next* rising edge will see. That
-avoids the post-edge read race of GUIDE.md on both simulators.
+avoids the race of reading outputs right after the edge, which each simulator resolves
+differently.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Base class of the block testbenches: one clock, a synchronous reset, one-clock steps.
 
-Sampling discipline (GUIDE.md: reading right after a rising edge races with the design):
+Sampling discipline (reading right after a rising edge races with the design's update):
 inputs are driven on the falling edge of `clk`; outputs are sampled in ReadOnly() right
 after the rising edge that used those inputs. So `await tb.step(a_i=1)` returns what the
 block shows after the clock that saw a_i = 1.

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Functional coverage of the top-level testbench (tb/lib/bsd_tb.py), issue 10 §3.
+"""Functional coverage of the top-level testbench (tb/lib/bsd_tb.py).
 
 Off unless $BSD_FCOV_DIR is set: then every TB gets a `Sampler` (TB.fcov), which wraps the
 reference model the test attaches with `TB.start(model)` and samples only what the core was

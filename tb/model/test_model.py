@@ -15,11 +15,15 @@ from bsd_model import (
     CMD_DIG_IO,
     CMD_DIG_RST,
     CMD_PTIME_RD,
+    CMD_RESET,
+    DEVCODE_HOST,
+    DIGCFG_RESET,
     MSG_CMD_INDEX_ERR,
     MSG_CMD_INVALID,
     MSG_CMD_TOO_LONG,
     MSG_CMD_TOO_SHORT,
     MSG_CONFIG_ERR,
+    MSG_POWER_RESET,
     MSG_SERIAL_ERROR,
     MSG_TMR_CONFLICT,
     TIMER_MAX_TICKS,
@@ -145,13 +149,28 @@ def test_table_as_one_session() -> None:
 
 # ---------------------------------------------------------------- §2 messages, precedence
 
-@pytest.mark.parametrize("code", [c for c in range(256) if c not in (0, 23, 26, 27, 28, 29)])
+@pytest.mark.parametrize("code", [c for c in range(256) if c not in (0, 23, 24, 26, 27, 28, 29)])
 @pytest.mark.parametrize("n", [1, 2, 8])
 def test_invalid_any_length(code: int, n: int) -> None:
     """cmdInvalid comes first, whatever N (codes 4 and 0x80 included)."""
     m = Model()
     data = [code] + [0] * (n - 1)
     assert pk(m.feed(packet(2, *data))) == [message(2, MSG_CMD_INVALID)]
+
+
+@pytest.mark.parametrize("n", range(1, 9))
+def test_reset_any_length(n: int) -> None:
+    """cmdRESET: the power-up state and only the power-up message, for any N from 1 to 8
+    (never cmdTooLong); a timer stops, and the next packet is served after it."""
+    m = Model(pins=0b11110)
+    m.feed(packet(2, CMD_DIG_CFG, 1, 0x00))
+    m.feed(packet(2, CMD_DIG_IO, 1, 1))
+    m.feed(packet(2, CMD_DIG_CFG, 2, 0x1F))
+    m.feed(packet(2, CMD_PTIME_RD, DEVCODE_HOST | 3))
+    out = m.feed(packet(2, CMD_RESET, *range(n - 1)) + packet(2, CMD_DIG_CFG, 1))
+    assert pk(out) == [message(2, MSG_POWER_RESET), packet(2, CMD_DIG_CFG, 1, DIGCFG_RESET)]
+    assert not m.timer_busy(3) and m.pin_oe() == 0 and m.pin_o() == 0
+    assert m.digcfg(2) == DIGCFG_RESET
 
 
 @pytest.mark.parametrize("n", range(1, 9))

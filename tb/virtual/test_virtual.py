@@ -371,12 +371,206 @@ def test_falling_behind_is_reported_at_most_once_a_second(fresh) -> None:
     time.sleep(1.5)
     v.proc.send_signal(signal.SIGCONT)
     t0 = time.monotonic()
-    v.err.wait(r"^behind real time: x0\.\d\d$")
+    v.err.wait(r"^behind real time: x0\.\d\d, stalled 1\.\d{3} s$")  # the 1.5 s stop
     time.sleep(1.0)
     v.send("quit")
     assert v.wait_exit() == 0
     reports = [line for line in v.err.lines if line.startswith("behind real time")]
     assert 1 <= len(reports) <= time.monotonic() - t0 + 2, reports
+
+
+# ---------------------------------------------------------------- line noise (ber, stats)
+
+NOISE_SEED = 20261202  # fixed: a failure repeats (each test's messages name it)
+FLIP = re.compile(r"\* noise (rx|tx) ([0-9A-F]{2}) +flipped((?: (?:start|d[0-7]|stop))+) \[bits ([\d ]+)\]$")
+STATS = re.compile(r"^stats: ber (\S+): rx (\d+) of (\d+) bits flipped, tx (\d+) of (\d+) bits flipped$")
+CORE = re.compile(r"\] < (?:\d+:[a-z ]+ +\()?([0-9A-F]{2}):([0-9A-F,]*)\)?")
+
+
+def stats(v: Virtual) -> tuple[int, int, int, int]:
+    """`stats` on stdin -> (rx flips, rx bits, tx flips, tx bits)."""
+    mark = len(v.out)
+    v.send("stats")
+    m = STATS.match(v.out.lines[v.out.wait(STATS.pattern, mark)])
+    return int(m[2]), int(m[3]), int(m[4]), int(m[5])
+
+
+def flips(v: Virtual, start: int, end: int | None = None) -> list[tuple[str, str, str, list[int]]]:
+    """The transcript's flip lines: (line, byte, which bits, their positions on the line)."""
+    found = []
+    for line in v.out.lines[start:end]:
+        m = FLIP.search(line)
+        if m:
+            found.append((m[1], m[2], m[3].strip(), [int(b) for b in m[4].split()]))
+    return found
+
+
+def core_stream(v: Virtual, start: int, end: int) -> bytes:
+    """The bytes the core really sent, from the transcript's `<` lines (packets without N)."""
+    out = bytearray()
+    for line in v.out.lines[start:end]:
+        m = CORE.search(line)
+        if m and "noise" not in line:
+            data = bytes.fromhex(m[2].replace(",", "")) if m[2] else b""
+            out += bytes([int(m[1], 16), len(data)]) + data
+    return bytes(out)
+
+
+def host_bytes_until(host: Host, tail: bytes, timeout: float = TIMEOUT) -> bytes:
+    """Every byte the host's UART passed on, up to and including `tail`."""
+    return host.raw_until(tail, timeout)
+
+
+def test_noise_flips_bits_on_both_lines_and_counts_them(fresh) -> None:
+    v = fresh("--seed", str(NOISE_SEED))
+    seed = v.out.lines[v.out.wait(r"^line noise: ber 0, seed ")]
+    assert f"seed {NOISE_SEED} " in seed, seed
+    host, _ = powered_up(v)
+    try:
+        start = len(v.out)
+        # The power-up line is the first of the core's bytes the host reads from here.
+        v.send("ber 0.01")
+        v.out.wait(r"\] ber 0\.01 +line noise on both lines$", start)
+        before = stats(v)
+        sent = []
+        for i in range(150):  # 150 echoes, each its own bytes: 6000 bits each way
+            sent.append(bytes([A, 3, 0x17, i, 0x5A]))
+            host.write(*sent[-1])
+            time.sleep(0.001)
+        time.sleep(0.3)
+        v.send("ber 0")
+        off = v.out.wait(r"\] ber 0 +line noise off$", start)
+        time.sleep(0.1)  # the line idle: the host's UART in step again
+        noisy = stats(v)
+        host.write(A, 3, 0x17, 0xAA, 0x55)  # clean on both lines
+        last = v.out.wait(r"\] < 02:17,AA,55 ", off)
+        got = host_bytes_until(host, bytes([A, 3, 0x17, 0xAA, 0x55]))
+        rx_flips, rx_bits, tx_flips, tx_bits = (a - b for a, b in zip(noisy, before))
+        where = f"seed {NOISE_SEED}; stats {before} -> {noisy}"
+        # Counted: the transcript's flip lines list exactly the bits `stats` counts.
+        lines = flips(v, start, off + 1)
+        assert sum(len(f[3]) for f in lines if f[0] == "rx") == rx_flips, where
+        assert sum(len(f[3]) for f in lines if f[0] == "tx") == tx_flips, where
+        # At about the rate asked for (about 60 flips each way expected).
+        assert rx_bits >= 150 * 5 * 10 and tx_bits >= 100 * 5 * 10, where
+        assert 0.004 <= rx_flips / rx_bits <= 0.025 and 0.004 <= tx_flips / tx_bits <= 0.025, where
+        # The rx flips reach the core: it answered packets the host never sent.
+        truth = core_stream(v, start, last + 1)
+        clean = {bytes([A, 2, 0, t]) for t in (0, 1)} | set(sent)
+        core_pkts, i = set(), 0
+        while i < len(truth):
+            core_pkts.add(truth[i:i + 2 + truth[i + 1]])
+            i += 2 + truth[i + 1]
+        assert core_pkts - clean - {bytes([A, 3, 0x17, 0xAA, 0x55])}, where
+        # The tx flips reach the host: what its UART passed on is not what the core sent.
+        assert truth.endswith(bytes([A, 3, 0x17, 0xAA, 0x55])), where
+        assert got != truth, where
+    finally:
+        host.close()
+
+
+def test_ber_0_stops_the_flips(fresh) -> None:
+    v = fresh("--seed", str(NOISE_SEED))
+    host, _ = powered_up(v)
+    try:
+        v.send("ber 0.02")
+        v.out.wait(r"\] ber 0\.02 ")
+        for i in range(40):
+            host.write(A, 3, 0x17, i, 0x0F)
+        time.sleep(0.2)
+        v.send("ber 0")
+        off = v.out.wait(r"\] ber 0 +line noise off$")
+        time.sleep(0.1)  # the core drops a partial packet after 25.6 ms; the host drops all
+        while select.select([host.fd], [], [], 0.05)[0]:
+            os.read(host.fd, 4096)
+        host.buf.clear()
+        before = stats(v)
+        assert before[0] > 0 and before[2] > 0, f"seed {NOISE_SEED}: no flips at ber 0.02: {before}"
+        mark = len(v.out)
+        for i in range(150):
+            assert host.reply(A, 3, 0x17, i, 0xF0) == bytes([A, 3, 0x17, i, 0xF0])
+        after = stats(v)
+        assert after[1] == before[1] + 150 * 50 and after[3] >= before[3] + 150 * 50, (before, after)
+        assert (after[0], after[2]) == (before[0], before[2]), f"flips after ber 0: {before} -> {after}"
+        assert not flips(v, mark), flips(v, mark)
+        assert off < mark
+    finally:
+        host.close()
+
+
+def test_the_seed_repeats_the_flips(fresh) -> None:
+    def run(seed: int) -> tuple[list, list]:
+        v = fresh("--seed", str(seed))
+        host, _ = powered_up(v)
+        try:
+            v.send("ber 0.02")  # before the host's first byte: rx counts from its bit 0
+            v.out.wait(r"\] ber 0\.02 ")
+            for i in range(60):
+                host.write(A, 3, 0x17, i, 0x3C)
+            host.write(A, 3, 0x17, 0xAA, 0x55)
+            v.out.wait(r"\] > 02:17,AA,55 ")
+            time.sleep(0.1)
+            lines = flips(v, 0)
+        finally:
+            host.close()
+        v.send("quit")
+        assert v.wait_exit() == 0
+        # rx: the same bytes on the line, so the same bytes hit in the same bits. tx: the
+        # power-up messages and heartbeats before `ber` fall as the wall clock has it, so
+        # the positions are comparable from the first flip on: their gaps.
+        rx = [f for f in lines if f[0] == "rx"]
+        tx = [p for f in lines if f[0] == "tx" for p in f[3]]
+        return rx, [b - a for a, b in zip(tx, tx[1:])]
+    rx1, tx1 = run(NOISE_SEED)
+    rx2, tx2 = run(NOISE_SEED)
+    rx3, tx3 = run(NOISE_SEED + 1)
+    assert len(rx1) >= 10 and len(tx1) >= 5, (rx1, tx1)
+    assert rx1 == rx2, f"seed {NOISE_SEED}: {rx1} != {rx2}"
+    n = min(len(tx1), len(tx2))
+    assert n >= 5 and tx1[:n] == tx2[:n], f"seed {NOISE_SEED}: {tx1} != {tx2}"
+    assert rx3 != rx1 and tx3[:n] != tx1[:n], f"seeds {NOISE_SEED} and {NOISE_SEED + 1} flip alike"
+
+
+BAD_BER = [
+    ("ber x", "bad bit error rate 'x' (a bit error rate from 0 to 1, e.g. 1e-3); the rate stays as it was"),
+    ("ber -1", "bad bit error rate '-1'"),
+    ("ber 2", "bad bit error rate '2'"),
+    ("ber nan", "bad bit error rate 'nan'"),
+    ("ber 1e-3x", "bad bit error rate '1e-3x'"),
+    ("ber", "expected 'ber P' (a bit error rate from 0 to 1, e.g. 1e-3)"),
+    ("ber 1e-3 1e-2", "expected 'ber P'"),
+]
+
+
+def test_bad_ber_is_refused_and_the_run_goes_on(fresh) -> None:
+    v = fresh("--seed", str(NOISE_SEED))
+    v.send(*(line for line, _ in BAD_BER))
+    for i, (line, message) in enumerate(BAD_BER, 1):
+        v.err.wait(re.escape(f"error: stdin:{i}: {message}"))
+    host, _ = powered_up(v)  # still running, still answering, and without noise
+    try:
+        for i in range(20):
+            assert host.reply(A, 3, 0x17, i, 0xC3) == bytes([A, 3, 0x17, i, 0xC3])
+        before = stats(v)
+        assert before[0::2] == (0, 0), before  # the rate stayed 0
+        v.send("ber 1")  # a good line after them is taken: every bit flipped
+        v.out.wait(r"\] ber 1 +line noise on both lines$")
+        host.write(A, 3, 0x17, 1, 2)
+        time.sleep(0.2)
+        after = stats(v)
+        assert after[0] - before[0] == after[1] - before[1] == 50, (before, after)
+    finally:
+        host.close()
+    v.send("quit")
+    assert v.wait_exit() == 0
+    assert len(v.err.lines) == len(BAD_BER), v.err.text()
+
+
+def test_make_virtual_passes_ber_and_seed() -> None:
+    run = subprocess.run(["make", "-n", "virtual", "BER=1e-3", "SEED=42"], cwd=ROOT, capture_output=True,
+                         text=True, timeout=TIMEOUT)
+    assert run.returncode == 0, run.stderr
+    assert re.search(r"/virtual --link \S+ --ber 1e-3 --seed 42$", run.stdout, re.M), run.stdout
 
 
 # ---------------------------------------------------------------- exit and errors
@@ -403,7 +597,7 @@ def test_clean_exit_removes_the_link(fresh, how: str) -> None:
 
 
 BAD_LINES = [
-    ("fly 3", "stdin:2: unknown keyword 'fly' (standard input takes pin, wait, reset, noise and quit)"),
+    ("fly 3", "stdin:2: unknown keyword 'fly' (standard input takes pin, wait, reset, noise, ber, stats and quit)"),
     ("pin 9 high", "stdin:2: bad pin number '9' (0..4)"),
     ("pin 1 pulse 3parsecs", "stdin:2: bad time '3parsecs'"),
     ("wait", "stdin:2: expected 'wait TIME'"),
@@ -411,6 +605,7 @@ BAD_LINES = [
     ("quit now", "stdin:2: 'quit' takes no argument"),
     ("2 26 3", "stdin:2: packets come from the host through the port"),
     ("expect 2 0", "stdin:2: 'expect' belongs in make sim scripts"),
+    ("stats now", "stdin:2: 'stats' takes no argument"),
 ]
 
 
@@ -428,6 +623,11 @@ def test_bad_stdin_line_stops_with_a_message(fresh, line: str, message: str) -> 
     (["extra"], "error: unexpected argument 'extra'"),
     (["--wave"], "error: option '--wave' needs a value"),
     (["--bench", "soon"], "error: --bench needs a number of seconds, not 'soon'"),
+    (["--ber", "2"], "error: --ber needs a bit error rate from 0 to 1, e.g. 1e-3, not '2'"),
+    (["--ber", "x"], "error: --ber needs a bit error rate from 0 to 1, e.g. 1e-3, not 'x'"),
+    (["--ber", "-1"], "error: --ber needs a bit error rate from 0 to 1, e.g. 1e-3, not '-1'"),
+    (["--seed", "-3"], "error: --seed needs a decimal number from 0 to 2^64-1, not '-3'"),
+    (["--seed", "99999999999999999999"], "error: --seed needs a decimal number from 0 to 2^64-1"),
 ])
 def test_bad_argument_gives_usage(virtual_bin: Path, args: list[str], message: str) -> None:
     run = subprocess.run([str(virtual_bin), *args], cwd=ROOT, capture_output=True, text=True,

@@ -1,0 +1,786 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
+"""A noise soak: the host library (host/, `brainstem_dio`) against the virtual module
+(sim/virtual.cpp) on a serial line that flips bits.
+
+Phases, each with its own virtual module line noise (`ber P` on its standard input):
+
+1. a quiet baseline;
+2. random calls at BER 1e-4, then at 1e-3 (by default), each checked against a shadow
+   model of the module (what each pin's configuration and output latch should be, what an
+   input reads, how long a pulse on a timer pin is): configure, query, write, read (inputs
+   and outputs, so cmdIndexErr comes too), time_pin on pins 3 and 4 while pulse trains run
+   on their pads (`pin N pulse ...` on the module's stdin), echo, and bursts of pipelined
+   `wait=False` writes. Every outcome is counted: ok (the value or the module error the shadow
+   predicts), a wrong value, each exception class (module errors by name and code), and each
+   call's duration against its timeout. What a call did when it failed is unknown, so the
+   shadow forgets it until a query or read tells it again;
+3. noise off (`ber 0`), and a full functional check: the link answering within 2 s; time_pin
+   on the pulse trains, first, while whatever the noise left in the library is still there (a
+   result there mostly arrives before its start's confirmation, so a lost start must not make
+   the next measurement's result go astray); every configuration of every pin written and read
+   back, both timer modes on pulses sent after the start's confirmation, the module's timer
+   timeout, pipelined `wait=False` writes (their pads in the module's transcript), the
+   heartbeat's link_up back up, and no stray packet.
+
+It passes (exit 0) when no call outlasted its bound (its timeout, plus the module's timeout
+for the sync a library call sends first after a Timeout, plus 0.5 s of scheduling), no call
+raised an exception outside `BrainStemError`, the library's reader thread is alive after
+each phase, the link answered within 2 s after the noise stopped, and every check after it
+passed. A wrong value under noise is counted, not a failure: the protocol has no checksum,
+so a flipped data bit that keeps the framing is a valid packet saying something else.
+Otherwise it exits 1 and says which criterion failed.
+
+    .venv/bin/python sim/soak.py                         # make soak: the full run
+    .venv/bin/python sim/soak.py --calls 300 --bers 1e-3 --baseline 50
+    .venv/bin/python sim/soak.py --seed 7 --write docs/benchmarks.md
+
+The virtual module is `make virtual`'s build at 2 MHz, 115200 baud, HB_RATE 10 (the build the
+tests use: it keeps real time on a loaded 2-core machine; `--baud 9600` for a real module's
+rate, where every packet takes 12 times as long on the line); `--seed` seeds both the calls and
+the line noise, so a run repeats as far as the wall clock lets it (the noise is the same bits;
+which call they hit depends on timing). `--write FILE` fills FILE's region
+`<!-- generated:soak begin -->` .. `end` (tools/docregions.py) with the table, the date, the
+seed and the command.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import datetime
+import os
+import random
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Optional
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tb" / "lib"))
+from docregions import RegionError, fill, fill_file  # noqa: E402
+from harness import Lines, make_built  # noqa: E402
+
+import brainstem_dio  # noqa: E402
+from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError  # noqa: E402
+
+REGION = "soak"
+BAUD = 115200
+
+
+def make_vars(baud: int) -> list[str]:
+    return ["CLK_HZ=2000000", f"BAUD={baud}", "HB_RATE=10"]
+A = 2
+NUM_PINS = 5
+TIMER_PINS = (1, 2, 3, 4)  # TIMER_MASK 30
+TICK_S = 1.6e-6
+TIMER_TIMEOUT_S = 65535 * TICK_S
+# The pulse trains: on pins 3 and 4, low pulses (the pads rest high, the board's pull-ups) of
+# these widths, one each every 360 us; time_pin measures them in width mode, target low. So a
+# measurement usually ends before the module's echo confirms its start to the host (about
+# 0.4 ms at 115 200 baud): the case where a result must not go to an older, lost
+# measurement's wait. (The functional check times pulses sent after the confirmation too.)
+PULSE_US = {3: 100, 4: 160}  # 62.5 and 100 ticks
+TRAIN_PERIOD_S = 360e-6
+TRAIN = ["pin 3 pulse 100us", "wait 50us", "pin 4 pulse 160us", "wait 50us"]
+TICK_SLACK = 2  # ±1 tick of phase, plus the synchronizer's few clocks
+CALL_TIMEOUT = 0.5  # the library's default
+GRACE_S = 0.5
+STATS = re.compile(r"^stats: ber (\S+): rx (\d+) of (\d+) bits flipped, tx (\d+) of (\d+) bits flipped$")
+
+
+class SoakError(Exception):
+    """The soak itself could not run (not a failed criterion)."""
+
+
+# ---------------------------------------------------------------- the virtual module
+
+class Virtual:
+    """The virtual module: its stdin, its transcript, its pty, its noise counts."""
+
+    def __init__(self, binary: Path, link: Path, seed: int) -> None:
+        self.proc = subprocess.Popen([str(binary), "--link", str(link), "--seed", str(seed)], cwd=ROOT,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        self.out = Lines(self.proc.stdout)
+        self.err = Lines(self.proc.stderr)
+        self.port = self.out.lines[self.out.wait(r"^port: ")].split(": ", 1)[1]
+        self.seed_line = self.out.lines[self.out.wait(r"^line noise: ")]
+        self.lock = threading.Lock()
+
+    def send(self, *lines: str) -> None:
+        assert self.proc.stdin is not None
+        with self.lock:
+            self.proc.stdin.write("".join(f"{line}\n" for line in lines).encode())
+            self.proc.stdin.flush()
+
+    def set_ber(self, ber: float) -> int:
+        """`ber P`; returns the transcript index of the line that says it took effect."""
+        mark = len(self.out)
+        self.send(f"ber {ber:g}")
+        return self.out.wait(rf"\] ber {re.escape(f'{ber:g}')} +line noise", mark, timeout=60)
+
+    def stats(self) -> tuple[int, int, int, int]:
+        """(rx flips, rx bits, tx flips, tx bits) so far."""
+        mark = len(self.out)
+        self.send("stats")
+        m = STATS.match(self.out.lines[self.out.wait(STATS.pattern, mark, timeout=60)])
+        assert m is not None
+        return int(m[2]), int(m[3]), int(m[4]), int(m[5])
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            try:
+                self.send("quit")
+                self.proc.wait(30)
+            except (OSError, subprocess.TimeoutExpired):
+                self.proc.kill()
+                self.proc.wait()
+
+
+class Trains:
+    """Pulse trains on pins 3 and 4, queued on the module's stdin ahead of the calls that
+    measure them. Stdin lines run in order, so a `ber` or `stats` line waits behind them:
+    `until` is when the last one queued ends (wall clock, a little generous)."""
+
+    def __init__(self, v: Virtual) -> None:
+        self.v = v
+        self.until = 0.0
+
+    def cover(self, seconds: float) -> None:
+        now = time.monotonic()
+        if self.until >= now + seconds:
+            return
+        reps = int(2 * seconds / TRAIN_PERIOD_S)
+        self.v.send(*(TRAIN * reps))
+        self.until = max(self.until, now) + reps * TRAIN_PERIOD_S
+
+    def running(self) -> bool:
+        return time.monotonic() < self.until + 0.2  # the module may lag the wall clock a little
+
+    def wait_out(self) -> None:
+        left = self.until + 0.1 - time.monotonic()
+        if left > 0:
+            time.sleep(left)
+
+
+# ---------------------------------------------------------------- outcomes
+
+@dataclass
+class Phase:
+    name: str
+    ber: float
+    outcomes: collections.Counter = field(default_factory=collections.Counter)
+    by_op: dict[str, collections.Counter] = field(default_factory=lambda: collections.defaultdict(collections.Counter))
+    slowest: tuple[float, float, str] = (0.0, 0.0, "")  # (ratio to timeout, seconds, call)
+    over_bound: list[str] = field(default_factory=list)
+    foreign: list[str] = field(default_factory=list)
+    wrong: list[str] = field(default_factory=list)
+    first: dict[str, str] = field(default_factory=dict)  # an exception outcome -> its first message
+    flips: tuple[int, int, int, int] = (0, 0, 0, 0)
+    link: dict[str, int] = field(default_factory=dict)
+    reader_alive: bool = True
+    seconds: float = 0.0
+
+    @property
+    def calls(self) -> int:
+        return sum(self.outcomes.values())
+
+
+WRONG = "wrong value"
+OK = "ok"
+
+
+def outcome_of(e: BaseException) -> str:
+    if isinstance(e, ModuleError):
+        return f"{type(e).__name__} ({e.code})"
+    return type(e).__name__
+
+
+class Caller:
+    """Runs one library call, times it against its bound and counts its outcome in `phase`."""
+
+    def __init__(self, phase: Phase) -> None:
+        self.phase = phase
+
+    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], Optional[str]],
+                 *, timeout: float = CALL_TIMEOUT, expect: Optional[type] = None,
+                 either: Optional[type] = None) -> tuple[str, Any]:
+        """`check(result)` returns None when the result is what the shadow predicts, else the
+        difference; `expect` is the module error the shadow predicts instead of a result;
+        `either`, a module error as good as a result (the shadow does not know)."""
+        ph = self.phase
+        t0 = time.monotonic()
+        result: Any = None
+        try:
+            result = fn()
+        except BrainStemError as e:
+            result = e
+            predicted = expect or either
+            outcome = OK if predicted is not None and isinstance(e, predicted) else outcome_of(e)
+        except Exception as e:  # noqa: BLE001 - that is what this counts
+            result = e
+            outcome = f"foreign {type(e).__name__}"
+            ph.foreign.append(f"{op}: {type(e).__name__}: {e}")
+        else:
+            if expect is not None:
+                outcome, diff = WRONG, f"no {expect.__name__}"
+            else:
+                diff = check(result)
+                outcome = OK if diff is None else WRONG
+            if outcome == WRONG:
+                ph.wrong.append(f"{op}: {diff}")
+        took = time.monotonic() - t0
+        bound = timeout + CALL_TIMEOUT + GRACE_S
+        if took > bound:
+            ph.over_bound.append(f"{op}: {took:.3f} s (bound {bound:.3f} s)")
+        if took / timeout > ph.slowest[0]:
+            ph.slowest = (took / timeout, took, op)
+        ph.outcomes[outcome] += 1
+        if isinstance(result, BaseException) and outcome != OK:
+            ph.first.setdefault(outcome, f"{op}: {str(result).splitlines()[0] if str(result) else ''}"[:200])
+        ph.by_op[op.split(" ")[0]][outcome] += 1
+        return outcome, result
+
+
+# ---------------------------------------------------------------- the shadow and the random calls
+
+@dataclass
+class Pin:
+    cfg: Optional[int] = 0x01  # DIGCFG bits 4:0, None = unknown
+    latch: Optional[int] = 0  # the output latch
+
+
+class Soak:
+    def __init__(self, m: brainstem_dio.Module, v: Virtual, rng: random.Random) -> None:
+        self.m = m
+        self.v = v
+        self.rng = rng
+        self.pins = [Pin() for _ in range(NUM_PINS)]
+        self.trains = Trains(v)
+        self.framing: list[str] = []  # the library's framing errors: when, why, what it dropped
+
+        def listen(e: Any) -> None:
+            if e.kind == "framing":
+                self.framing.append(f"{e.time:.3f}: {e.note} ({bytes(e.raw or b'').hex(' ')})")
+        m.link.add_listener(listen)
+
+    def output(self, pin: int) -> Optional[bool]:
+        cfg = self.pins[pin].cfg
+        return None if cfg is None else not cfg & 0x01
+
+    def level(self, pin: int) -> Optional[int]:
+        """What an input reads: high (the pull-ups), either while a train runs on it."""
+        if pin in PULSE_US and self.trains.running():
+            return None
+        return 1
+
+    # Each op: one or more calls through `call`.
+    def op_configure(self, call: Caller) -> None:
+        pin = self.rng.randrange(NUM_PINS)
+        cfg = self.rng.randrange(32) | (0x01 if self.rng.random() < 0.6 else 0)
+        self._configure(call, pin, cfg)
+
+    def _configure(self, call: Caller, pin: int, cfg: int) -> bool:
+        outcome, _ = call(f"configure pin {pin} 0x{cfg:02X}", lambda: self.m.configure(pin, cfg), lambda r: None)
+        self.pins[pin].cfg = cfg if outcome == OK else None
+        return outcome == OK
+
+    def op_query(self, call: Caller) -> None:
+        pin = self.rng.randrange(NUM_PINS)
+        want = self.pins[pin].cfg
+
+        def check(r: DigCfg) -> Optional[str]:
+            return None if want is None or int(r) == want else f"pin {pin} config 0x{int(r):02X}, not 0x{want:02X}"
+        outcome, r = call(f"query pin {pin}", lambda: self.m.query(pin), check)
+        if isinstance(r, DigCfg):
+            self.pins[pin].cfg = int(r) & 0x1F  # what the module says, right or not, from now on
+        elif outcome != OK:
+            self.pins[pin].cfg = None
+
+    def op_write(self, call: Caller) -> None:
+        pin = self.rng.randrange(NUM_PINS)
+        out = self.output(pin)
+        value = self.rng.randrange(2)
+        outcome, _ = call(f"write pin {pin} {value}", lambda: self.m.write(pin, value), lambda r: None,
+                          expect=CmdIndexErr if out is False else None, either=CmdIndexErr if out is None else None)
+        if out and outcome == OK:
+            self.pins[pin].latch = value
+        elif out is None or outcome != OK:
+            self.pins[pin].latch = None
+
+    def op_read(self, call: Caller) -> None:
+        pin = self.rng.randrange(NUM_PINS)
+        out = self.output(pin)
+        want = self.level(pin)
+
+        def check(r: int) -> Optional[str]:
+            if r not in (0, 1):
+                return f"pin {pin} read {r}"
+            if out is None or want is None or r == want:
+                return None
+            return f"pin {pin} read {r}, not {want}"
+        call(f"read pin {pin}", lambda: self.m.read(pin), check, expect=CmdIndexErr if out else None,
+             either=CmdIndexErr if out is None else None)
+
+    def op_time_pin(self, call: Caller) -> None:
+        pin = self.rng.choice(sorted(PULSE_US))
+        if not self._configure(call, pin, 0x11):  # input, width timer of a low pulse
+            return
+        self.trains.cover(1.0)
+        want = PULSE_US[pin] * 1e-6 / TICK_S
+
+        def check(r: brainstem_dio.TimerResult) -> Optional[str]:
+            return None if abs(r.ticks - want) <= TICK_SLACK else f"pin {pin} timer {r.ticks} ticks, not {want:g}"
+        call(f"time_pin pin {pin}", lambda: self.m.time_pin(pin), check, timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
+
+    def op_echo(self, call: Caller) -> None:
+        data = bytes(self.rng.randrange(256) for _ in range(self.rng.randrange(8)))
+        call(f"echo {data.hex()}", lambda: self.m.echo(data),
+             lambda r: None if r == data else f"echo {r.hex()}, not {data.hex()}")
+
+    def op_no_timer(self, call: Caller) -> None:
+        call("time_pin pin 0", lambda: self.m.time_pin(0), lambda r: None, expect=CmdIndexErr,
+             timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
+
+    def op_pipelined(self, call: Caller) -> None:
+        pin = self.rng.randrange(3)
+        if not self.output(pin) and not self._configure(call, pin, 0x00):
+            return
+        values = [self.rng.randrange(2) for _ in range(self.rng.randrange(3, 9))]
+        pendings: list[Any] = []
+        for value in values:
+            outcome, p = call(f"write(wait=False) pin {pin} {value}", lambda v=value: self.m.write(pin, v, wait=False),
+                              lambda r: None)
+            pendings.append(p if outcome == OK else None)
+        good = True
+        for value, p in zip(values, pendings):
+            if p is None:
+                good = False
+                continue
+            outcome, _ = call(f"Pending.result pin {pin} {value}", p.result, lambda r: None)
+            good = good and outcome == OK
+        self.pins[pin].latch = values[-1] if good else None
+
+    OPS = [("op_configure", 14), ("op_query", 14), ("op_write", 12), ("op_read", 14), ("op_time_pin", 12),
+           ("op_echo", 14), ("op_no_timer", 4), ("op_pipelined", 8)]
+
+    def random_calls(self, phase: Phase, calls: int) -> None:
+        call = Caller(phase)
+        names = [n for n, _ in self.OPS]
+        weights = [w for _, w in self.OPS]
+        t0 = time.monotonic()
+        while phase.calls < calls:
+            getattr(self, self.rng.choices(names, weights)[0])(call)
+        phase.seconds = time.monotonic() - t0
+
+
+# ---------------------------------------------------------------- after the noise
+
+def reader_alive() -> bool:
+    return any(t.name == "brainstem_dio-reader" and t.is_alive() for t in threading.enumerate())
+
+
+def link_counts(m: brainstem_dio.Module) -> dict[str, int]:
+    s = m.link.stats
+    return {"framing errors": s.framing_errors, "resyncs": s.resyncs, "resync timeouts": s.resync_timeouts,
+            "unsolicited": s.unsolicited, "heartbeat answers": s.heartbeat_answers}
+
+
+def answering_after(m: brainstem_dio.Module, since: float, limit: float = 2.0) -> Optional[float]:
+    """Seconds from `since` to the first echo that comes back, or None if none in `limit`."""
+    while time.monotonic() - since < limit:
+        try:
+            if m.echo(b"\x5a", timeout=max(0.05, min(CALL_TIMEOUT, limit - (time.monotonic() - since)))) == b"\x5a":
+                return time.monotonic() - since
+        except BrainStemError:
+            pass
+    return None
+
+
+class Checks:
+    """The functional check once the noise is off: each check's name and its failure, if any."""
+
+    def __init__(self, soak: Soak) -> None:
+        self.s = soak
+        self.m = soak.m
+        self.v = soak.v
+        self.results: list[tuple[str, Optional[str]]] = []
+        self.retried: list[str] = []  # checks run again: the module had fallen behind real time
+        self.excused_framing = 0
+        self.excused_unsolicited = 0
+
+    def check(self, name: str, fn: Callable[[], Optional[str]]) -> None:
+        """Run a check. One that fails after the library dropped a partial packet for its
+        inter-byte timeout while the virtual module fell behind real time or stalled (its
+        stderr says so, at most a second later) runs once more, and the report says so: a
+        simulation descheduled for over 0.1 s in the middle of a packet is, to the library, a
+        byte lost on the line, which no real module does. Other failures stand."""
+        for attempt in (1, 2):
+            lag0 = len(self.v.err)
+            seen0 = len(self.s.framing)
+            framing0, unsolicited0 = self.m.link.stats.framing_errors, self.m.link.stats.unsolicited
+            try:
+                why = fn()
+            except BrainStemError as e:
+                why = f"{type(e).__name__}: {e}"
+            except Exception as e:  # noqa: BLE001 - reported as the check's failure
+                why = f"foreign {type(e).__name__}: {e}"
+            if why is None or attempt == 2:
+                break
+            if not any(": timeout (" in f for f in self.s.framing[seen0:]):
+                break
+            time.sleep(1.1)
+            behind = self.v.err.find(r"^behind real time", lag0)
+            if not behind:
+                break
+            self.retried.append(f"{name}: {why} (the module: {behind[0]})")
+            self.excused_framing += self.m.link.stats.framing_errors - framing0
+            self.excused_unsolicited += self.m.link.stats.unsolicited - unsolicited0
+            self.m.drain()
+        self.results.append((name, why))
+
+    def every_configuration(self) -> Optional[str]:
+        bad = []
+        for pin in range(NUM_PINS):
+            for cfg in range(32):
+                self.m.configure(pin, cfg)
+                got = int(self.m.query(pin))
+                if got != cfg:
+                    bad.append(f"pin {pin}: wrote 0x{cfg:02X}, read 0x{got:02X}")
+            self.m.configure(pin)
+        return "; ".join(bad[:5]) or None
+
+    def width_timers(self) -> Optional[str]:
+        bad = []
+        for pin in TIMER_PINS:
+            self.m.configure(pin, timer_width=True, timer_high=False)
+            handle = self.m.start_timer(pin)
+            assert handle is not None
+            self.v.send(f"pin {pin} pulse 800us")  # after the start is confirmed: 500 ticks
+            r = handle.result()
+            if abs(r.ticks - 500) > TICK_SLACK:
+                bad.append(f"pin {pin}: {r.ticks} ticks for an 800 us pulse")
+            self.m.configure(pin)
+        return "; ".join(bad) or None
+
+    def edge_timer(self) -> Optional[str]:
+        pin = 3
+        self.m.configure(pin, timer_high=False)  # edge timer to low
+        t0 = time.monotonic()
+        handle = self.m.start_timer(pin)
+        assert handle is not None
+        self.v.send("wait 20ms", f"pin {pin} low")
+        r = handle.result(2.0)
+        took = time.monotonic() - t0
+        self.v.send(f"pin {pin} high")
+        self.m.configure(pin)
+        # 20 ms of simulated time after the confirmed start, and not more than the wall clock
+        # (plus the 0.1 s a lagging module may catch up by).
+        if r.seconds is None or not 0.020 <= r.seconds <= took + 0.1:
+            return f"edge timer: {r} after a 20 ms wait ({took:.3f} s of wall time)"
+        return None
+
+    def timer_timeout(self) -> Optional[str]:
+        self.m.configure(2, timer_high=False)  # edge to low; pin 2's pad stays high
+        r = self.m.time_pin(2)
+        self.m.configure(2)
+        return None if r.timed_out and r.ticks == 0 else f"timer timeout: {r}"
+
+    def time_pin_on_trains(self) -> Optional[str]:
+        """time_pin while the trains run (a result may come before the start's confirmation)."""
+        bad = []
+        for pin, us in PULSE_US.items():
+            self.m.configure(pin, timer_width=True, timer_high=False)
+            self.s.trains.cover(1.0)
+            want = us * 1e-6 / TICK_S
+            for _ in range(5):
+                try:
+                    r = self.m.time_pin(pin)
+                except BrainStemError as e:
+                    bad.append(f"pin {pin}: {type(e).__name__}")
+                    continue
+                if abs(r.ticks - want) > TICK_SLACK:
+                    bad.append(f"pin {pin}: {r.ticks} ticks, not {want:g}")
+            self.m.configure(pin)
+        self.s.trains.wait_out()
+        return "; ".join(bad) or None
+
+    def pipelined_writes(self) -> Optional[str]:
+        pins = (0, 1, 2)
+        mark = len(self.v.out)  # from inputs: becoming an output is a pad line too
+        for pin in pins:
+            self.m.configure(pin, output=True)
+        last = {}
+        pendings = []
+        for i in range(24):
+            pin, value = pins[i % 3], (i // 3) % 2 ^ (i % 2)
+            pendings.append(self.m.write(pin, value, wait=False))
+            last[pin] = value
+        for p in pendings:
+            p.result()
+        self.m.sync()
+        bad = []
+        for pin in pins:
+            pat = re.compile(rf"\] pin {pin} driven (high|low)")
+            lines = [ln for ln in self.v.out.lines[mark:] if pat.search(ln)]
+            seen = pat.search(lines[-1])[1] if lines else "unchanged"
+            if seen != ("high" if last[pin] else "low"):
+                bad.append(f"pin {pin}: last write {last[pin]}, the pad {seen}")
+            self.m.configure(pin)
+        return "; ".join(bad) or None
+
+    def heartbeat_link_up(self) -> Optional[str]:
+        answers = self.m.link.stats.heartbeat_answers
+        pattern = r"\* link_up [01] "
+        mark = len(self.v.out)
+        before = self.v.out.find(pattern)
+        last = before[-1] if before else "none"
+        deadline = time.monotonic() + 3.0  # HB_RATE 10: a heartbeat every 256 ms
+        while time.monotonic() < deadline:
+            after = self.v.out.find(pattern, mark)
+            last = after[-1] if after else last
+            # Two answers since the noise went, and the module's link_up says so.
+            if self.m.link.stats.heartbeat_answers >= answers + 2 and "link_up 1" in last:
+                return None
+            time.sleep(0.05)
+        return (f"heartbeats answered {self.m.link.stats.heartbeat_answers - answers} in 3 s; "
+                f"last link_up line: {last}")
+
+    def run(self) -> None:
+        framing0 = self.m.link.stats.framing_errors
+        seen0 = len(self.s.framing)
+        self.m.drain()  # what the noise left in the queue
+        unsolicited0 = self.m.link.stats.unsolicited
+        # First, while whatever the noise left in the library is still there: a measurement
+        # whose start was lost must not take the result of the next one on its pin.
+        self.check("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
+                   "before the start's confirmation)", self.time_pin_on_trains)
+        self.check("every pin's configuration written and read back (5 x 32)", self.every_configuration)
+        self.check("width timer on pins 1-4 (800 us pulse = 500 ticks)", self.width_timers)
+        self.check("edge timer on pin 3 (20 ms)", self.edge_timer)
+        self.check("the module's timer timeout on pin 2 (result 0)", self.timer_timeout)
+        self.check("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes)
+        self.check("the heartbeat's link_up back up", self.heartbeat_link_up)
+
+        def no_strays() -> Optional[str]:
+            self.m.sync()
+            stray = self.m.drain()
+            framing = self.m.link.stats.framing_errors - framing0 - self.excused_framing
+            unsolicited = self.m.link.stats.unsolicited - unsolicited0 - self.excused_unsolicited
+            if stray or framing or unsolicited:
+                return (f"{unsolicited} unsolicited packets ({', '.join(str(p) for p in stray[:4])}), "
+                        f"{framing} framing errors ({'; '.join(self.s.framing[seen0:][:4])})")
+            return None
+        self.check("no stray packet, no framing error during the checks", no_strays)
+
+
+# ---------------------------------------------------------------- the report
+
+def table(phases: list[Phase]) -> str:
+    rows = [OK, WRONG] + sorted({o for p in phases for o in p.outcomes} - {OK, WRONG})
+    head = "| | " + " | ".join(f"{p.name}" for p in phases) + " |"
+    out = [head, "|---|" + "---:|" * len(phases)]
+    out.append("| calls | " + " | ".join(str(p.calls) for p in phases) + " |")
+    for r in rows:
+        out.append(f"| {r} | " + " | ".join(str(p.outcomes.get(r, 0)) for p in phases) + " |")
+    ops = sorted({o for p in phases for o in p.by_op})
+    for op in ops:
+        out.append(f"| {op}: ok / calls | " + " | ".join(
+            f"{p.by_op[op][OK]} / {sum(p.by_op[op].values())}" if op in p.by_op else "-" for p in phases) + " |")
+    out.append("| slowest call / its timeout | " + " | ".join(
+        f"{p.slowest[1]:.3f} s = {p.slowest[0]:.2f} x ({p.slowest[2]})" for p in phases) + " |")
+    out.append("| bits flipped host → module | " + " | ".join(f"{p.flips[0]} of {p.flips[1]}" for p in phases) + " |")
+    out.append("| bits flipped module → host | " + " | ".join(f"{p.flips[2]} of {p.flips[3]}" for p in phases) + " |")
+    for k in ("framing errors", "resyncs", "resync timeouts", "unsolicited"):
+        out.append(f"| library: {k} | " + " | ".join(str(p.link.get(k, 0)) for p in phases) + " |")
+    out.append("| wall time | " + " | ".join(f"{p.seconds:.1f} s" for p in phases) + " |")
+    return "\n".join(out)
+
+
+@dataclass
+class Result:
+    phases: list[Phase]
+    recovered: Optional[float]
+    checks: list[tuple[str, Optional[str]]]
+    failures: list[str]
+    seed: int
+    retried: list[str] = field(default_factory=list)
+    behind: list[str] = field(default_factory=list)  # the virtual module's reports of lag and stalls
+
+
+def criteria(phases: list[Phase], recovered: Optional[float], checks: list[tuple[str, Optional[str]]]) -> list[str]:
+    failures = []
+    for p in phases:
+        for s in p.over_bound[:5]:
+            failures.append(f"{p.name}: a call past its bound: {s}")
+        for s in p.foreign[:5]:
+            failures.append(f"{p.name}: an exception outside BrainStemError: {s}")
+        if not p.reader_alive:
+            failures.append(f"{p.name}: the library's reader thread is dead")
+    if recovered is None:
+        failures.append("the link did not answer within 2 s after the noise stopped")
+    for name, why in checks:
+        if why is not None:
+            failures.append(f"check failed: {name}: {why}")
+    return failures
+
+
+def report(res: Result) -> str:
+    lines = [table(res.phases), ""]
+    rec = "never (within 2 s)" if res.recovered is None else f"{res.recovered:.3f} s"
+    lines.append(f"After the noise: the link answered in {rec}; the functional check:")
+    lines.append("")
+    for name, why in res.checks:
+        lines.append(f"- {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
+    for r in res.retried:
+        lines.append(f"- run again, having failed while the module was behind real time: {r}")
+    first = {}
+    for p in res.phases:
+        for k, msg in p.first.items():
+            first.setdefault(k, f"{p.name}: {msg}")
+    if first:
+        lines.append("")
+        lines.append("Each kind of exception, its first occurrence:")
+        lines.append("")
+        for k in sorted(first):
+            lines.append(f"- {k}: {first[k]}")
+    wrong = [(p.name, w) for p in res.phases for w in p.wrong]
+    if wrong:
+        lines.append("")
+        lines.append(f"Wrong values ({len(wrong)}; counted, not failures), the first ones:")
+        lines.append("")
+        for name, w in wrong[:8]:
+            lines.append(f"- {name}: {w}")
+    if res.behind:
+        lines.append("")
+        lines.append(f"The virtual module fell behind real time {len(res.behind)} times (a busy machine): "
+                     + "; ".join(b.removeprefix("behind real time: ") for b in res.behind[:6])
+                     + ("; ..." if len(res.behind) > 6 else ""))
+    lines.append("")
+    lines.append("Result: " + ("PASS" if not res.failures else "FAIL"))
+    for f in res.failures:
+        lines.append(f"- {f}")
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- the run
+
+TRANSCRIPT = ROOT / "sim" / "build" / "soak" / "transcript.txt"
+
+
+def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None],
+             transcript: Optional[Path] = TRANSCRIPT, baud: int = BAUD) -> Result:
+    """The whole soak; the virtual module's transcript (stdout and stderr) goes to `transcript`."""
+    binary = make_built("virtual-build", "virtual-path", make_vars(baud))
+    with tempfile.TemporaryDirectory(prefix="bsd-soak-") as tmp:
+        v = Virtual(binary, Path(tmp) / "port", seed)
+        try:
+            return _run(v, seed=seed, baseline=baseline, calls=calls, bers=bers, log=log)
+        finally:
+            v.stop()
+            if transcript is not None:
+                transcript.parent.mkdir(parents=True, exist_ok=True)
+                transcript.write_text(v.out.text() + "\n" + v.err.text() + "\n", encoding="utf-8")
+                log(f"soak: the virtual module's transcript: {transcript}")
+
+
+def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None]) -> Result:
+    log(f"soak: seed {seed}; virtual module: {v.seed_line}")
+    rng = random.Random(seed)
+    m = brainstem_dio.open(v.port, A, timeout=CALL_TIMEOUT)
+    try:
+        m.sync()
+        soak = Soak(m, v, rng)
+        phases = []
+        for name, ber, n in [("quiet", 0.0, baseline)] + [(f"BER {b:g}", b, calls) for b in bers]:
+            soak.trains.wait_out()
+            v.set_ber(ber)
+            flips0 = v.stats()
+            link0 = link_counts(m)
+            phase = Phase(name, ber)
+            soak.random_calls(phase, n)
+            soak.trains.wait_out()
+            phase.flips = tuple(a - b for a, b in zip(v.stats(), flips0))  # type: ignore[assignment]
+            phase.link = {k: val - link0[k] for k, val in link_counts(m).items()}
+            phase.reader_alive = reader_alive()
+            phases.append(phase)
+            log(f"soak: {name}: {phase.calls} calls in {phase.seconds:.1f} s: "
+                + ", ".join(f"{k} {c}" for k, c in phase.outcomes.most_common()))
+        v.set_ber(0)
+        recovered = answering_after(m, time.monotonic())
+        for pin in range(NUM_PINS):  # what the noise left: every pin an input again
+            try:
+                m.configure(pin)
+            except BrainStemError:
+                pass
+        checks = Checks(soak)
+        checks.run()
+        for name, why in checks.results:
+            log(f"soak: check {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
+        if not reader_alive():
+            checks.results.append(("the library's reader thread alive after the checks", "dead"))
+        failures = criteria(phases, recovered, checks.results)
+        return Result(phases, recovered, checks.results, failures, seed, checks.retried,
+                      v.err.find(r"^behind real time"))
+    finally:
+        m.close()
+
+
+def main(argv: Optional[list[str]] = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    ap = argparse.ArgumentParser(prog="sim/soak.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seed", type=int, default=None, help="seed of the calls and the noise (default: random, printed)")
+    ap.add_argument("--baseline", type=int, default=300, help="calls of the quiet baseline (default 300)")
+    ap.add_argument("--calls", type=int, default=2000, help="calls per noisy phase (default 2000)")
+    ap.add_argument("--bers", type=float, nargs="+", default=[1e-4, 1e-3], metavar="P",
+                    help="the noisy phases' bit error rates (default 1e-4 1e-3)")
+    ap.add_argument("--baud", type=int, default=BAUD, choices=[9600, 19200, 38400, 57600, 115200],
+                    help=f"the virtual module's line rate (default {BAUD})")
+    ap.add_argument("--write", type=Path, metavar="FILE",
+                    help=f"fill the region `generated:{REGION}` of FILE with the table")
+    args = ap.parse_args(argv)
+    if args.baseline < 0 or args.calls < 1:
+        ap.error("--baseline must be 0 or more and --calls 1 or more")
+    for b in args.bers:
+        if not 0 < b <= 1:
+            ap.error(f"--bers: {b:g} is not a bit error rate above 0 and at most 1")
+    if args.seed is not None and not 0 <= args.seed < 2**64:
+        ap.error("--seed: 0 to 2^64-1")
+    if args.write is not None:  # a missing marker fails now, not after the run
+        try:
+            fill(args.write.read_text(encoding="utf-8"), {REGION: ""}, where=str(args.write))
+        except (OSError, RegionError) as e:
+            print(f"sim/soak.py: error: {e}", file=sys.stderr)
+            return 1
+    seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    try:
+        res = run_soak(seed=seed, baseline=args.baseline, calls=args.calls, bers=args.bers, baud=args.baud,
+                       log=lambda s: print(s, file=sys.stderr, flush=True))
+    except (SoakError, AssertionError, subprocess.CalledProcessError, OSError) as e:
+        print(f"sim/soak.py: error: the soak could not run: {e}", file=sys.stderr)
+        return 1
+    text = report(res)
+    print(text)
+    if args.write is not None:
+        cmd = shlex.join(["sim/soak.py", *argv] + ([] if args.seed is not None else ["--seed", str(seed)]))
+        body = (f"_Measured {date} by `{cmd}` (seed {seed}; the virtual module at 2 MHz, {args.baud} baud, "
+                f"HB_RATE 10; the library's default timeout, {CALL_TIMEOUT} s)._\n\n{text}")
+        changed = fill_file(args.write, {REGION: body})
+        print(f"{'wrote' if changed else 'unchanged:'} {args.write} ({REGION})", file=sys.stderr)
+    if res.failures:
+        print("sim/soak.py: FAIL: " + "; ".join(res.failures), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,106 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The iCEBreaker board top with a timer on every pin of its three PMODs (synth/icebreaker_top.v
+at NUM_PINS 24, TIMER_MASK 24'hFFFFFF: `make bitstream BOARD=icebreaker24`), in simulation at the
+board's 12 MHz clock over its UART pins: the power-up message, a pin read on PMOD 1B, and a
+width measurement on the last pin of PMOD 2 (P2_10), a sensor's low pulse of 2 ms on the header
+pin, each packet checked against the model. The pad model (tb/lib/pads/SB_IO.v) takes the
+outside level of an undriven pin from its `ext` register, which the test sets. Runs in `make
+test`: at 9600 baud (the bitstream's build) on Verilator, at 115 200 baud on Icarus.
+"""
+
+from __future__ import annotations
+
+import cocotb
+import pytest
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, Timer
+from cocotbext.uart import UartSink, UartSource
+
+from board_top import Board
+from bsd_model import (CMD_DIG_CFG, CMD_DIG_IO, CMD_PTIME_RD, DEVCODE_HOST, DIGCFG_IODIR, DIGCFG_TMODE, Model,
+                       Params, packet, tick_tolerance, ticks_of)
+from runner import hdl_params
+from suite import Suite
+from uart_line import LineMonitor, now_ps, quiet_uart_logs
+
+BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
+              pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
+              led_active_low=True, extra_sources=())
+PINS = 24
+# Build names of their own: the 5-pin top's tests build the same toplevel.
+BUILDS = {f"p24b{baud}": {"CLK_HZ": BOARD.clk_hz, "BAUD": baud, "NUM_PINS": PINS, "TIMER_MASK": f"{PINS}'hffffff"}
+          for baud in (9600, 115_200)}
+SUITE = Suite(__file__, BOARD.top, BUILDS, sources=BOARD.sources())
+READ_PIN = 12          # P1B3
+TIMED_PIN = 23         # P2_10
+PULSE_S = 2e-3
+
+
+@SUITE.test(only=lambda sim, build: (sim, build) in (("verilator", "p24b9600"), ("icarus", "p24b115200")))
+async def test_board24_session(dut) -> None:
+    """Power-up, a DIG_IO read on PMOD 1B, a width timer on PMOD 2 against a 2 ms pulse."""
+    hdl = hdl_params()
+    clk_hz, baud = int(hdl["CLK_HZ"]), int(hdl["BAUD"])
+    p = Params(clk_hz=clk_hz, num_pins=PINS, timer_mask=(1 << PINS) - 1, hb_rate=10)
+    period_ps = round(1e12 / clk_hz)
+    frame_ps = 10 * ((clk_hz + baud // 2) // baud) * period_ps
+    src, sink, mon = UartSource(dut.RX, baud=baud), UartSink(dut.TX, baud=baud), LineMonitor(dut.TX, baud)
+    quiet_uart_logs(dut.RX, dut.TX)
+    dut.BTN_N.value = 1
+    cocotb.start_soon(Clock(dut.CLK, period_ps, unit="ps", impl="gpi", period_high=period_ps // 2).start())
+    pull_ups = (1 << PINS) - 1
+    model = Model(p, pull_ups)
+    # The pad of the timed pin: PMOD 2, bit 7 (generate block g_pad[23].g_p2).
+    header = dut.g_pad[TIMED_PIN].g_p2.u_io.ext
+
+    async def expect(want: bytes, what: str, within_ps: int = 0) -> None:
+        got = bytearray()
+        deadline = now_ps() + within_ps + (len(want) + 6) * frame_ps
+        while len(got) < len(want) and now_ps() < deadline:
+            await Timer(frame_ps, unit="ps")
+            got += sink.read_nowait(sink.count())
+        await Timer(3 * frame_ps, unit="ps")     # nothing more may follow
+        got += sink.read_nowait(sink.count())
+        assert bytes(got) == want, f"after {what}: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
+        assert not mon.errors, mon.errors[:3]
+
+    async def command(pkt: bytes) -> None:
+        exp = model.feed(pkt)
+        src.write_nowait(pkt)
+        await src.wait()
+        await expect(b"".join(exp.packets), pkt.hex(" "))
+
+    await ClockCycles(dut.CLK, 2)
+    await expect(b"".join(model.reset(pull_ups).packets), "power-up")
+    await command(packet(p.module_addr, CMD_DIG_IO, READ_PIN))
+    # Input, width mode, target level 0: the timer measures how long the pin stays low.
+    await command(packet(p.module_addr, CMD_DIG_CFG, TIMED_PIN, DIGCFG_IODIR | DIGCFG_TMODE))
+    await command(packet(p.module_addr, CMD_PTIME_RD, DEVCODE_HOST | TIMED_PIN))
+    assert model.timer_busy(TIMED_PIN)
+    header.value = 0
+    assert not model.set_pin(TIMED_PIN, 0)
+    await Timer(round(PULSE_S * 1e12), unit="ps")
+    header.value = 1
+    assert not model.set_pin(TIMED_PIN, 1)
+    # The result: the model's packet for the value the core measured, which must be the
+    # pulse's length in ticks within the contract's tolerance.
+    got = bytearray()     # A, 4, cmdDEV_VAL, timer ID, hi, lo
+    deadline = now_ps() + 12 * frame_ps
+    while len(got) < 6 and now_ps() < deadline:
+        await Timer(frame_ps, unit="ps")
+        got += sink.read_nowait(sink.count())
+    assert len(got) == 6, f"no timer result after the pulse: {bytes(got).hex(' ')}"
+    result = (got[4] << 8) | got[5]
+    nominal = ticks_of(PULSE_S)
+    assert abs(result - nominal) <= tick_tolerance(clk_hz), \
+        f"pin {TIMED_PIN}: {result} ticks for a {PULSE_S * 1e3:g} ms pulse, expected {nominal}"
+    want = b"".join(model.timer_complete(TIMED_PIN, result).packets)
+    assert bytes(got) == want, f"timer result: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
+    await expect(b"", "the timer result")
+    dut._log.info("pin %d (P2_10): %d ticks for a %g ms pulse; %.1f ms simulated", TIMED_PIN, result,
+                  PULSE_S * 1e3, now_ps() / 1e9)
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_icebreaker24_top(case) -> None:
+    SUITE.run(case)
