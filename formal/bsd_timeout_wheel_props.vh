@@ -8,13 +8,13 @@
 // (tb/bsd_timeout_wheel, tb/brainstem_dio/test_scale.py).
 // Asserted, the races of insert against completion and restart: a timer's bit is never
 // inserted for a start read on the clock of a start of it or the clock before (the read
-// may be the previous run's); never for a timer that is not running or already inserted;
+// may be the previous run's) or the clock after (stage 3); never for a timer that is not running or already inserted;
 // the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
 // earlier run never counts); expire_o only names inserted timers; an insert never shares
 // the write port with a slot's clearing (the scanner waits instead).
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q, f_tick2_q;
-    reg [NUM_TIMERS-1:0] f_start_q, f_start2_q;
+    reg [NUM_TIMERS-1:0] f_start_q, f_start2_q, f_start3_q;
     reg [NUM_TIMERS-1:0] f_run_q;
 
     always @(posedge clk) begin
@@ -24,10 +24,11 @@
         f_tick2_q  <= f_tick_q && !rst;
         f_start_q  <= rst ? NONE : start_i;
         f_start2_q <= rst ? NONE : f_start_q;
+        f_start3_q <= rst ? NONE : f_start2_q;
         f_run_q    <= run_i;
     end
 
-    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan2_q) : NONE;
+    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan3_q) : NONE;
 
     always @(*) begin
         if (!f_past_valid) assume(rst);
@@ -38,13 +39,14 @@
         if (f_past_valid && (f_tick_q || f_tick2_q)) assume(!tick_i);
 
         if (f_past_valid && !rst && !f_rst_q) begin
-            assert((f_ins_now & (start_i | f_start_q | f_start2_q)) == NONE);
-            if (insert) assert(scan2_q < NUM_TIMERS && run_i[scan2_q] && !ins_q[scan2_q]);
+            assert((f_ins_now & (start_i | f_start_q | f_start2_q | f_start3_q)) == NONE);
+            if (insert) assert(scan3_q < NUM_TIMERS && run_i[scan3_q] && !ins_q[scan3_q]);
             assert((f_start_q & (ins_q | expire_o)) == NONE);
             assert((expire_o & ~ins_q) == NONE);
             assert(!(insert && clear));
             // induction: the stage-2 flags follow the clocks they were taken on
             if (f_start_q != NONE || f_start2_q != NONE) assert(stale_q);
+            if (f_start_q != NONE || f_start2_q != NONE || f_start3_q != NONE) assert(stale3_q);
             assert(tick2_q == f_tick2_q && tick1_q == f_tick_q);
         end
     end

@@ -446,9 +446,9 @@ module brainstem_dio #(
     // per command (4 clocks at least) and the drain takes an item a clock:
     // 256 entries never overflow (docs/DESIGN.md). An entry without timer
     // events (a reply, a DIG_IO value, a heartbeat) skips the queue when
-    // nothing waits in it and the drain is free: 2 clocks less latency, and
+    // nothing waits in it and the drain is empty: 2 clocks less latency, and
     // the mux is only as wide as those fields.
-    wire          evq_ready, evq_valid, evq_empty, drain_free;
+    wire          evq_ready, evq_valid, evq_empty, drain_free, drain_empty;
     wire [EW-1:0] evq_data;
     // After a cmdRESET that turned the packet on offer into the power-up
     // message (bsd_pkt_tx), that message is already on its way: its event
@@ -457,7 +457,9 @@ module brainstem_dio #(
     wire          rep_ev   = rep_new && !tx_swapped;
     wire          ev_new   = ev_any || rep_ev || dio_rflx_new || hb_new_q;
     wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
-    wire          ev_skip  = evq_empty && drain_free && !ev_any;
+    // (drain_empty comes from flops: the drain's pick stays off the queue's
+    // write enable; an entry that meets the drain's last item is queued.)
+    wire          ev_skip  = evq_empty && drain_empty && !ev_any;
 
     bsd_fifo #(.WIDTH(EW), .DEPTH(256)) u_evq (
         .clk           (clk),
@@ -482,9 +484,10 @@ module brainstem_dio #(
     ) u_drain (
         .clk           (clk),
         .rst           (core_rst),
-        .ev_valid_i    (evq_valid || (evq_empty && ev_new && !ev_any)),
+        .ev_valid_i    (evq_valid || (ev_new && ev_skip)),
         .ev_data_i     (evq_valid ? evq_data : {{(EW-26){1'b0}}, ev_entry[25:0]}),
         .ev_ready_o    (drain_free),
+        .empty_o       (drain_empty),
         .host_pend_i   (timer_host_pend),
         .rflx_pend_i   (timer_rflx_pend),
         .timed_out_i   (timer_timed_out),
@@ -500,10 +503,11 @@ module brainstem_dio #(
     // -------------------------------------------------------------- output
     // One item per packet that can wait: a timer's result each, the reply,
     // the heartbeat: 66 at most. An item skips the queue when nothing waits
-    // in it and the transmitter is free.
-    wire        outq_ready, outq_valid, outq_empty, tx_free, tx_take;
+    // in it and the transmitter is idle.
+    wire        outq_ready, outq_valid, outq_empty, tx_free, tx_take, tx_idle;
     wire [29:0] outq_data;
-    wire        out_skip = outq_empty && tx_free;
+    // (tx_idle comes from flops, like drain_empty above.)
+    wire        out_skip = outq_empty && tx_idle;
 
     bsd_fifo #(.WIDTH(30), .DEPTH(128)) u_outq (
         .clk           (clk),
@@ -522,10 +526,11 @@ module brainstem_dio #(
         .rst           (rst),
         .flush_i       (soft_rst_q),
         .swapped_o     (tx_swapped),
-        .item_valid_i  (outq_valid || (outq_empty && order_valid)),
+        .item_valid_i  (outq_valid || (order_valid && out_skip)),
         .item_data_i   (outq_valid ? outq_data : order_data),
         .item_ready_o  (tx_take),
         .free_o        (tx_free),
+        .idle_o        (tx_idle),
         .rep_n_i       (rep_n),
         .rep_data_i    (rep_data),
         .rep_tail_i    (rep_tail),

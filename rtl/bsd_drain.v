@@ -35,6 +35,7 @@ module bsd_drain #(
     input  wire                       ev_valid_i,
     input  wire [2*NT+25:0]           ev_data_i,    // {r, f, reply, dio, hb, dio ID, dio level, T}
     output wire                       ev_ready_o,
+    output wire                       empty_o,      // no item left (from flops only)
     // the timers' delivery flags (bsd_timer_bank)
     input  wire [NT-1:0]              host_pend_i,
     input  wire [NT-1:0]              rflx_pend_i,
@@ -118,21 +119,48 @@ module bsd_drain #(
             assign k[g] = |(low & BITS);
         end
     endgenerate
-    // The DIG_IO value goes first when its ID is below the lowest waiting timer's.
     wire [5:0]          k_id      = CONTIG ? ID0 + k : IDS[6*k +: 6];
-    wire                dio_first = dio_q && (!any_t || dio_id_q < k_id);
+    // The DIG_IO value goes first when no waiting timer ranks before it (an ID
+    // not above its own): the timers that do are worked out as the entry is
+    // taken (before_q), so the pick compares no IDs.
+    reg  [NT-1:0]       before_q;
+    wire [NT-1:0]       before_d;
+    generate
+        for (g = 0; g < NT; g = g + 1) begin : g_before
+            // A timer with ID 0 ranks before any value: a constant compare.
+            /* verilator lint_off UNSIGNED */
+            assign before_d[g] = IDS[6*g +: 6] <= ev_data_i[22:17];
+            /* verilator lint_on UNSIGNED */
+        end
+    endgenerate
+    wire                dio_first = dio_q && !(|(rem & before_q));
     wire                take_t    = any_t && !dio_first;
     wire                take_dio  = dio_first;
     wire                take_rep  = !any_t && !dio_q && rep_q;
     wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
     // Items left after this clock's: when none, the next entry is taken now
-    // (an item every clock, entries back to back).
-    wire                more_t    = take_t ? |(rem & ~low) : any_t;
+    // (an item every clock, entries back to back). "Two timers or more" as
+    // gates (which synthesis balances) instead of the pick's carry chain, which
+    // keeps the queue's pop (ev_ready_o) short.
+    function two_or_more(input [NT-1:0] v);
+        integer t;
+        reg     seen;
+        begin
+            seen        = 1'b0;
+            two_or_more = 1'b0;
+            for (t = 0; t < NT; t = t + 1) begin
+                two_or_more = two_or_more | (seen & v[t]);
+                seen        = seen | v[t];
+            end
+        end
+    endfunction
+    wire                more_t    = take_t ? two_or_more(rem) : any_t;
     wire                more      = more_t || (dio_q && !take_dio) || (rep_q && !take_rep) ||
                                     (hb_q && !take_hb);
     wire                next      = !more;
 
     assign ev_ready_o = next;
+    assign empty_o    = !any_t && !dio_q && !rep_q && !hb_q;
 
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_ref_q, a_dio_q, a_rep_q, a_hb_q;
@@ -154,7 +182,8 @@ module bsd_drain #(
     end
 
     wire [15:0] diff   = b_t16_q - ref_rd_q;
-    wire [15:0] result = b_tmo_q ? 16'd0 : (diff == 16'd0 ? 16'd1 : diff);
+    // "0 ticks" tested on the operands, beside the subtraction, not after it.
+    wire [15:0] result = b_tmo_q ? 16'd0 : (b_t16_q == ref_rd_q ? 16'd1 : diff);
 
     reg        rflx_valid_q;
     reg [5:0]  rflx_id_q;
@@ -181,6 +210,7 @@ module bsd_drain #(
             dio_q     <= ev_valid_i && ev_data_i[24];
             hb_q      <= ev_valid_i && ev_data_i[23];
             dio_id_q  <= ev_data_i[22:17];
+            before_q  <= before_d;
             dio_val_q <= ev_data_i[16];
             t_q       <= ev_data_i[15:0];
         end else begin

@@ -31,6 +31,7 @@ module bsd_pkt_tx #(
     input  wire [29:0] item_data_i,
     output wire        item_ready_o,
     output wire        free_o,       // an item offered now would be taken
+    output wire        idle_o,       // no packet going out (from flops only)
     // the reply slot: A, rep_n_i, rep_data_i[31:24] .. rep_tail_i[7:0]
     input  wire [3:0]  rep_n_i,
     input  wire [31:0] rep_data_i,
@@ -104,6 +105,7 @@ module bsd_pkt_tx #(
     wire done = hs && last_q && credit_q;
     assign item_ready_o  = load;
     assign free_o        = free;
+    assign idle_o        = !valid_q;
     assign swapped_o     = swapped_q;
     assign timer_done_o  = done && kind_q == KIND_TIMER;
     assign timer_idx_o   = idx_q;

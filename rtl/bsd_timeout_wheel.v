@@ -80,10 +80,16 @@ module bsd_timeout_wheel #(
     wire [15:0] ahead    = st_rd_q - t_i;
     wire        in_win   = ahead[15:6] == 10'd0 && ahead[5:2] != 4'd0;
     wire        unused_ahead = ^ahead[1:0];
+    // Stage 3: the window test registered (the 16-bit subtraction stays off
+    // the write port); the timer's state is tested now.
+    reg  [5:0]  scan3_q;
+    reg  [5:0]  slot3_q;      // T_start mod 64: the wheel slot
+    reg         win3_q;
+    reg         stale3_q;     // or a start on stage 2's clock
     reg  [NUM_TIMERS-1:0] ins_q;  // inserted into the wheel for the current run
     wire [63:0] run64    = pad(run_i);
     wire [63:0] ins64    = pad(ins_q);
-    wire        cand     = !stale_q && run64[scan2_q] && !ins64[scan2_q] && in_win;
+    wire        cand     = !stale3_q && win3_q && run64[scan3_q] && !ins64[scan3_q];
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
@@ -109,8 +115,8 @@ module bsd_timeout_wheel #(
     wire                insert = cand && !clear;
     assign              advance = !(cand && clear);
     wire                w_en   = clear || insert;
-    wire [5:0]          w_addr = clear ? slot_q : st_rd_q[5:0];
-    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan2_q);
+    wire [5:0]          w_addr = clear ? slot_q : slot3_q;
+    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan3_q);
     wire                w_bit  = !clear;
 
     integer b;
@@ -129,14 +135,18 @@ module bsd_timeout_wheel #(
         st_q     <= start_any;
         st_idx_q <= start_idx;
         if (advance) begin
-            scan_q  <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
-            scan2_q <= scan_q;
+            scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
+            scan2_q  <= scan_q;
+            scan3_q  <= scan2_q;
+            slot3_q  <= st_rd_q[5:0];
+            win3_q   <= in_win;
         end
         // The start read now may be a previous run's when a new one is
-        // written now (st_q) or next clock (start_any).
-        // A stall keeps the candidate: it stays stale if it was.
+        // written now (st_q) or next clock (start_any), or (stage 3) on the
+        // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any || (!advance && stale_q);
-        ins_q    <= ((ins_q | (insert ? (ONE << scan2_q) : NONE)) & ~start_i);
+        stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
+        ins_q    <= ((ins_q | (insert ? (ONE << scan3_q) : NONE)) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
@@ -146,6 +156,9 @@ module bsd_timeout_wheel #(
             scan_q      <= 6'd0;
             scan2_q     <= 6'd0;
             stale_q     <= 1'b1;
+            stale3_q    <= 1'b1;
+            win3_q      <= 1'b0;
+            scan3_q     <= 6'd0;
             ins_q       <= NONE;
             tick1_q     <= 1'b0;
             tick2_q     <= 1'b0;
