@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_heartbeat (included at the end of the module under `ifdef FORMAL).
-// tick_i, answer_i and answer_down_i are free; done_i is assumed only while req_o is 1 (bsd_tx
+// tick_i, answer_i and answer_down_i are free; done_i is assumed only while req_o is 1 (bsd_pkt_tx
 // tells only a requesting source). A reference written from PROTOCOL.md §3 (cmdHB) and
 // DESIGN.md decision 8 counts ticks: with HB_RATE != 0 a heartbeat falls due on the PERIOD-th
 // tick (HB_RATE x HB_UNIT_TICKS) after reset or after the previous due one, never with

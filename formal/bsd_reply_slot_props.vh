@@ -5,27 +5,26 @@
 // neither in reset nor on the clock after it (a packet takes at least two bytes);
 // stage 2 (s2_valid_i) is exactly the clock after pkt_valid_i (bsd_exec: a flop, reset);
 // reply_i and dio_rflx_i only with s2_valid_i, reply_n_i <= 8; rep_done_i only while
-// rep_req_o, dio_done_i only while dio_req_o (bsd_tx and bsd_rflx_arb tell only a waiting
-// source). A reference holds at most one reply and one RFLX value: after reset the reply slot
-// holds the power-up message (A, 2, CMD_MSG, statePowerReset); a reply from stage 2 fills it
-// with stage 2's N and bytes, rep_done_i empties it; likewise dio_rflx_i / dio_done_i for the
-// RFLX value with dio_below_o[p] = its ID < TIMER_ID_BASE + p. Asserted: rep_req_o and
-// dio_req_o equal the reference's full flags and, while full, the outputs its contents (so a
-// reply is held unchanged until taken, and each reply gives exactly one request: it rises the
-// clock after stage 2 and falls only the clock after its done); stage 2 always finds both
-// slots free (nothing is overwritten or lost); hold_o = pkt_valid_i or a packet in stage 2
-// or a slot full, exactly.
+// rep_req_o (bsd_pkt_tx tells only a waiting source). A reference holds at most one reply:
+// after reset the slot holds the power-up message (A, 2, CMD_MSG, statePowerReset); a reply
+// from stage 2 fills it with stage 2's N and bytes, rep_done_i empties it. Asserted: rep_req_o
+// equals the reference's full flag and, while full, the outputs its contents (so a reply is
+// held unchanged until taken, and each reply gives exactly one request: it rises the clock
+// after stage 2 and falls only the clock after its done); rep_new_o (the event queue's
+// reply bit) is exactly the clock the slot fills, the power-up message's included; a DIG_IO
+// RFLX value is an event of exactly the clock after stage 2 with stage 2's ID and level; stage
+// 2 always finds the slot free (nothing is overwritten or lost); hold_o = pkt_valid_i or a
+// packet in stage 2 or the slot full, exactly.
     reg                f_past_valid = 1'b0;
     reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q;
-    reg                f_rep_full, f_dio_full;
+    reg                f_rep_full;
     reg [3:0]          f_n;
     reg [31:0]         f_data, f_tail;
-    reg [5:0]          f_id;
-    reg                f_val;
-    reg [NUM_PINS-1:0] f_below;
+    reg                f_dio_q;
+    reg [5:0]          f_id_q;
+    reg                f_val_q;
     reg [3:0]          f_n_q;
     reg [31:0]         f_data_q, f_tail_q;
-    integer            f_c, f_i;
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -45,20 +44,14 @@
             f_data <= reply_data_i;
             f_tail <= reply_tail_i;
         end
-        if (dio_done_i) f_dio_full <= 1'b0;
-        if (dio_rflx_i) begin
-            f_dio_full <= 1'b1;
-            f_id  <= dio_id_i;
-            f_val <= dio_val_i;
-            for (f_c = 0; f_c < NUM_PINS; f_c = f_c + 1)
-                f_below[f_c] <= dio_id_i < TIMER_ID_BASE[5:0] + f_c[5:0];
-        end
+        f_dio_q   <= dio_rflx_i && !rst;
+        f_id_q    <= dio_id_i;
+        f_val_q   <= dio_val_i;
         if (rst) begin
             f_rep_full <= 1'b1;
             f_n        <= 4'd2;
             f_data     <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
             f_tail     <= 32'd0;
-            f_dio_full <= 1'b0;
         end
     end
 
@@ -70,7 +63,6 @@
         if (reply_i || dio_rflx_i) assume(s2_valid_i);
         assume(reply_n_i <= 4'd8);
         if (rep_done_i) assume(rep_req_o);
-        if (dio_done_i) assume(dio_req_o);
 
         if (f_past_valid) begin
             assert(rep_req_o == f_rep_full);
@@ -79,15 +71,13 @@
                 assert(rep_data_o == f_data);
                 assert(rep_tail_o == f_tail);
             end
-            assert(dio_req_o == f_dio_full);
-            if (f_dio_full) begin
-                assert(dio_id_o == f_id);
-                assert(dio_val_o == f_val);
-                assert(dio_below_o == f_below);
-            end
-            assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o || dio_req_o));
-            // Stage 2 finds both slots free.
-            if (s2_valid_i) assert(!rep_req_o && !dio_req_o);
+            assert(dio_new_o == f_dio_q);
+            if (f_dio_q) assert(dio_id_o == f_id_q && dio_val_o == f_val_q);
+            assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o));
+            // Stage 2 finds the slot free.
+            if (s2_valid_i) assert(!rep_req_o);
+            // The reply's event: the clock the request rises (the power-up message's too).
+            assert(rep_new_o == (rep_req_o && (f_rst_q || !f_req_q || f_done_q)));
             if (!f_rst_q) begin
                 // A request rises only the clock after a reply, falls only after its done;
                 // while it waits its packet does not change.
@@ -101,14 +91,14 @@
         end
     end
 
-    // Covers: the power-up message taken, then a reply and an RFLX value waiting together,
+    // Covers: the power-up message taken, then a reply waiting with an RFLX value's event,
     // a second reply after the first is taken; a reply taken on the clock it is requested.
     reg [1:0] f_taken = 2'd0;
     always @(posedge clk)
         if (rst) f_taken <= 2'd0;
         else if (rep_done_i && f_taken != 2'd3) f_taken <= f_taken + 2'd1;
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
-        cover(f_taken == 2'd1 && rep_req_o && dio_req_o && rep_n_o == 4'd8);
+        cover(f_taken == 2'd1 && rep_req_o && dio_new_o && rep_n_o == 4'd8);
         cover(f_taken == 2'd2 && rep_req_o);
         cover(reply_q && rep_done_i);
     end

@@ -41,11 +41,46 @@ module brainstem_dio #(
 );
     `include "bsd_protocol.vh"
 
-    // Packet sources of bsd_tx: timers 0..NUM_PINS-1 (by pin, so same-clock
-    // results leave by ascending pin), then the command reply, then cmdHB.
-    localparam integer SRC_REPLY = NUM_PINS;
-    localparam integer SRC_HB    = NUM_PINS + 1;
-    localparam integer K         = NUM_PINS + 2;
+    // Timers are numbered 0..NT-1 in the order of their pins: the timer
+    // blocks work on vectors of timers, so pins without one cost nothing
+    // there. (With no timer at all one timer is built and never started.)
+    function integer count_timers(input integer unused);
+        integer q;
+        begin
+            count_timers = 0;
+            for (q = 0; q < NUM_PINS; q = q + 1)
+                if (TIMER_MASK[q]) count_timers = count_timers + 1;
+        end
+    endfunction
+    // The pin of timer t (t < count_timers).
+    function integer pin_of_timer(input integer t);
+        integer q, n;
+        begin
+            pin_of_timer = 0;
+            n = 0;
+            for (q = 0; q < NUM_PINS; q = q + 1) begin
+                if (TIMER_MASK[q]) begin
+                    if (n == t) pin_of_timer = q;
+                    n = n + 1;
+                end
+            end
+        end
+    endfunction
+    // The number of timers on pins below q.
+    function integer count_below(input integer q);
+        integer r;
+        begin
+            count_below = 0;
+            for (r = 0; r < q; r = r + 1)
+                if (TIMER_MASK[r]) count_below = count_below + 1;
+        end
+    endfunction
+    localparam integer TIMERS = count_timers(0);
+    localparam integer NT     = TIMERS == 0 ? 1 : TIMERS;
+
+    // An event queue entry: {timer references, timer finishes, reply, DIG_IO
+    // RFLX value, heartbeat, the DIG_IO value's ID and level, T}.
+    localparam integer EW = 2 * NT + 26;
 
     // ---------------------------------------------------------------- checks
     // One check and one message per rule of the contract (PROTOCOL.md §1,
@@ -101,7 +136,7 @@ module brainstem_dio #(
     // later, except two: the parser, which has taken no byte after the packet
     // (hold below) and so already waits for an address, and keeps the bytes
     // that come after it for after the reset; and the transmitter, which
-    // finishes a packet already partly sent (bsd_tx, flush_i).
+    // finishes a packet already partly sent (bsd_pkt_tx, flush_i).
     wire soft_reset;
     reg  soft_rst_q;
     always @(posedge clk) begin
@@ -232,11 +267,11 @@ module brainstem_dio #(
     wire [3:0]            rep_n;
     wire [31:0]           rep_data;
     wire [31:0]           rep_tail;
-    wire                  dio_rflx_req, dio_rflx_val, dio_rflx_done;
+    wire                  rep_new;
+    wire                  dio_rflx_val, dio_rflx_new;
     wire [5:0]            dio_rflx_id;
-    wire [NUM_PINS-1:0]   dio_rflx_below;
 
-    bsd_reply_slot #(.NUM_PINS(NUM_PINS), .TIMER_ID_BASE(TIMER_ID_BASE)) u_slot (
+    bsd_reply_slot u_slot (
         .clk          (clk),
         .rst          (core_rst),
         .pkt_valid_i  (pkt_valid),
@@ -254,11 +289,10 @@ module brainstem_dio #(
         .rep_data_o   (rep_data),
         .rep_tail_o   (rep_tail),
         .rep_done_i   (rep_done),
-        .dio_req_o    (dio_rflx_req),
+        .rep_new_o    (rep_new),
+        .dio_new_o    (dio_rflx_new),
         .dio_id_o     (dio_rflx_id),
-        .dio_val_o    (dio_rflx_val),
-        .dio_below_o  (dio_rflx_below),
-        .dio_done_i   (dio_rflx_done)
+        .dio_val_o    (dio_rflx_val)
     );
 
     bsd_cfg_regs #(
@@ -278,17 +312,17 @@ module brainstem_dio #(
     );
 
     // --------------------------------------------------------- per-pin blocks
-    wire [NUM_PINS-1:0]    timer_host_req, timer_rflx_req;
-    wire [NUM_PINS-1:0]    timer_host_done, timer_rflx_done;
-    wire [16*NUM_PINS-1:0] timer_result;
+    wire [NUM_PINS-1:0] t_mode, t_target;
 
     genvar p;
     generate
         for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
             wire [4:0] c = cfg[5*p +: 5];
 
-            assign pin_oe[p] = !c[0];
-            assign pin_o[p]  = out_latch[p];
+            assign pin_oe[p]   = !c[0];
+            assign pin_o[p]    = out_latch[p];
+            assign t_mode[p]   = c[4];
+            assign t_target[p] = c[3];
 
             bsd_trans_latch u_latch (
                 .clk      (clk),
@@ -301,40 +335,88 @@ module brainstem_dio #(
                 .level_i  (level[p]),
                 .fire_o   (raw_trans[p])
             );
+        end
+    endgenerate
 
-            if (TIMER_MASK[p]) begin : g_timer
-                bsd_event_timer u_timer (
-                    .clk         (clk),
-                    .rst         (core_rst),
-                    .tick_i      (tick),
-                    .level_i     (level[p]),
-                    .start_i     (timer_start[p]),
-                    .mode_i      (c[4]),
-                    .target_i    (c[3]),
-                    .host_i      (timer_host),
-                    .rflx_i      (timer_rflx),
-                    .host_done_i (timer_host_done[p]),
-                    .rflx_done_i (timer_rflx_done[p]),
-                    .busy_o      (timer_busy[p]),
-                    .host_req_o  (timer_host_req[p]),
-                    .rflx_req_o  (timer_rflx_req[p]),
-                    .result_o    (timer_result[16*p +: 16])
-                );
-            end else begin : g_no_timer
-                assign timer_busy[p]              = 1'b0;
-                assign timer_host_req[p]          = 1'b0;
-                assign timer_rflx_req[p]          = 1'b0;
-                assign timer_result[16*p +: 16]   = 16'd0;
-                // The executor never starts a timer on this pin, and TMODE and
-                // TSTATE are only stored here.
-                wire unused_no_timer = ^{timer_start[p], timer_host_done[p],
-                                         timer_rflx_done[p], c[4:3]};
+    // --------------------------------------------------------------- timers
+    wire [NT-1:0]       t_level, t_start, t_tmode, t_tstate, t_busy;
+    wire [NT-1:0]       timer_run, timer_host_pend, timer_rflx_pend, timer_timed_out;
+    wire [NT-1:0]       timer_expire;
+    wire [NT-1:0]       ev_r, ev_f;
+    wire                ev_any;
+    wire [15:0]         t_count;
+    wire                host_done, rflx_done;
+    wire [5:0]          host_idx, rflx_idx;
+
+    // Pin vectors to timer vectors and back (wiring only).
+    generate
+        if (TIMERS == 0) begin : g_no_timers
+            assign t_level  = 1'b0;
+            assign t_start  = 1'b0;
+            assign t_tmode  = 1'b0;
+            assign t_tstate = 1'b0;
+            assign timer_busy = {NUM_PINS{1'b0}};
+            wire unused_no_timers = ^{timer_start, t_mode, t_target, t_busy};
+        end else begin : g_timers
+            for (p = 0; p < NT; p = p + 1) begin : g_gather
+                localparam integer PIN = pin_of_timer(p);
+                assign t_level[p]  = level[PIN];
+                assign t_start[p]  = timer_start[PIN];
+                assign t_tmode[p]  = t_mode[PIN];
+                assign t_tstate[p] = t_target[PIN];
+            end
+            for (p = 0; p < NUM_PINS; p = p + 1) begin : g_scatter
+                if (TIMER_MASK[p]) begin : g_t
+                    localparam integer T = count_below(p);
+                    assign timer_busy[p] = t_busy[T];
+                end else begin : g_n
+                    assign timer_busy[p] = 1'b0;
+                    // The executor never starts a timer on this pin, and TMODE
+                    // and TSTATE are only stored here.
+                    wire unused_pin = ^{timer_start[p], t_mode[p], t_target[p]};
+                end
             end
         end
     endgenerate
 
+    bsd_timer_bank #(.NUM_TIMERS(NT)) u_timers (
+        .clk         (clk),
+        .rst         (core_rst),
+        .tick_i      (tick),
+        .level_i     (t_level),
+        .start_i     (t_start),
+        .mode_i      (t_tmode),
+        .target_i    (t_tstate),
+        .host_i      (timer_host),
+        .rflx_i      (timer_rflx),
+        .expire_i    (timer_expire),
+        .host_done_i (host_done),
+        .host_idx_i  (host_idx),
+        .rflx_done_i (rflx_done),
+        .rflx_idx_i  (rflx_idx),
+        .busy_o      (t_busy),
+        .run_o       (timer_run),
+        .host_pend_o (timer_host_pend),
+        .rflx_pend_o (timer_rflx_pend),
+        .timed_out_o (timer_timed_out),
+        .ev_r_o      (ev_r),
+        .ev_f_o      (ev_f),
+        .ev_any_o    (ev_any),
+        .t_o         (t_count)
+    );
+
+    bsd_timeout_wheel #(.NUM_TIMERS(NT)) u_wheel (
+        .clk         (clk),
+        .rst         (core_rst),
+        .tick_i      (tick),
+        .t_i         (t_count),
+        .start_i     (t_start),
+        .run_i       (timer_run),
+        .expire_o    (timer_expire)
+    );
+
     // ----------------------------------------------------------- heartbeat
-    wire       hb_req, hb_done;
+    wire       hb_req, hb_done, hb_new;
     wire [7:0] hb_type;
 
     bsd_heartbeat #(.HB_RATE(HB_RATE)) u_hb (
@@ -344,67 +426,139 @@ module brainstem_dio #(
         .answer_i      (hb_answer),
         .answer_down_i (hb_answer_down),
         .req_o         (hb_req),
+        .new_o         (hb_new),
         .type_o        (hb_type),
         .done_i        (hb_done),
         .link_up_o     (link_up)
     );
 
+    // A heartbeat's event is the clock it falls due, like a timer's or a
+    // reply's: registered here as theirs are in their blocks.
+    reg hb_new_q;
+    always @(posedge clk) begin
+        hb_new_q <= hb_new;
+        if (core_rst) hb_new_q <= 1'b0;
+    end
+
+    // ---------------------------------------------------------- event queue
+    // At most two events per timer (reference, finish) wait before its result
+    // is delivered, one reply and one heartbeat; DIG_IO RFLX values come one
+    // per command (4 clocks at least) and the drain takes an item a clock:
+    // 256 entries never overflow (docs/DESIGN.md). An entry without timer
+    // events (a reply, a DIG_IO value, a heartbeat) skips the queue when
+    // nothing waits in it and the drain is empty: 2 clocks less latency, and
+    // the mux is only as wide as those fields.
+    wire          evq_ready, evq_valid, evq_empty, drain_free, drain_empty;
+    wire [EW-1:0] evq_data;
+    // After a cmdRESET that turned the packet on offer into the power-up
+    // message (bsd_pkt_tx), that message is already on its way: its event
+    // is dropped.
+    wire          tx_swapped;
+    wire          rep_ev   = rep_new && !tx_swapped;
+    wire          ev_new   = ev_any || rep_ev || dio_rflx_new || hb_new_q;
+    wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
+    // (drain_empty comes from flops: the drain's pick stays off the queue's
+    // write enable; an entry that meets the drain's last item is queued.)
+    wire          ev_skip  = evq_empty && drain_empty && !ev_any;
+
+    bsd_fifo #(.WIDTH(EW), .DEPTH(256)) u_evq (
+        .clk           (clk),
+        .rst           (core_rst),
+        .s_axis_tdata  (ev_entry),
+        .s_axis_tvalid (ev_new && !ev_skip),
+        .s_axis_tready (evq_ready),
+        .m_axis_tdata  (evq_data),
+        .m_axis_tvalid (evq_valid),
+        .m_axis_tready (drain_free),
+        .empty_o       (evq_empty)
+    );
+
+    wire        order_valid;
+    wire [29:0] order_data;
+
+    bsd_drain #(
+        .NUM_PINS      (NUM_PINS),
+        .TIMER_MASK    (TIMER_MASK),
+        .TIMER_ID_BASE (TIMER_ID_BASE),
+        .NT            (NT)
+    ) u_drain (
+        .clk           (clk),
+        .rst           (core_rst),
+        .ev_valid_i    (evq_valid || (ev_new && ev_skip)),
+        .ev_data_i     (evq_valid ? evq_data : {{(EW-26){1'b0}}, ev_entry[25:0]}),
+        .ev_ready_o    (drain_free),
+        .empty_o       (drain_empty),
+        .host_pend_i   (timer_host_pend),
+        .rflx_pend_i   (timer_rflx_pend),
+        .timed_out_i   (timer_timed_out),
+        .order_valid_o (order_valid),
+        .order_data_o  (order_data),
+        .rflx_done_o   (rflx_done),
+        .rflx_idx_o    (rflx_idx),
+        .rflx_valid_o  (rflx_valid),
+        .rflx_id_o     (rflx_id),
+        .rflx_data_o   (rflx_data)
+    );
+
     // -------------------------------------------------------------- output
-    wire [K-1:0]    tx_req;
-    wire [3*K-1:0]  tx_n;
-    wire [32*K-1:0] tx_data;
-    wire [K-1:0]    tx_done;
+    // One item per packet that can wait: a timer's result each, the reply,
+    // the heartbeat: 66 at most. An item skips the queue when nothing waits
+    // in it and the transmitter is idle.
+    wire        outq_ready, outq_valid, outq_empty, tx_free, tx_take, tx_idle;
+    wire [29:0] outq_data;
+    // (tx_idle comes from flops, like drain_empty above.)
+    wire        out_skip = outq_empty && tx_idle;
 
-    generate
-        for (p = 0; p < NUM_PINS; p = p + 1) begin : g_tx_timer
-            localparam integer ID = TIMER_ID_BASE + p;
-            assign tx_req[p]            = timer_host_req[p];
-            assign tx_n[3*p +: 3]       = 3'd4;
-            assign tx_data[32*p +: 32]  = {CMD_DEV_VAL, ID[7:0], timer_result[16*p +: 16]};
-            assign timer_host_done[p]   = tx_done[p];
-        end
-    endgenerate
+    bsd_fifo #(.WIDTH(30), .DEPTH(128)) u_outq (
+        .clk           (clk),
+        .rst           (core_rst),
+        .s_axis_tdata  (order_data),
+        .s_axis_tvalid (order_valid && !out_skip),
+        .s_axis_tready (outq_ready),
+        .m_axis_tdata  (outq_data),
+        .m_axis_tvalid (outq_valid),
+        .m_axis_tready (tx_free),
+        .empty_o       (outq_empty)
+    );
 
-    assign tx_req[SRC_REPLY]               = rep_req;
-    assign tx_n[3*SRC_REPLY +: 3]          = rep_n[2:0];  // bit 3 and d4..d7: the long ports
-    assign tx_data[32*SRC_REPLY +: 32]     = rep_data;
-    assign rep_done                        = tx_done[SRC_REPLY];
-
-    assign tx_req[SRC_HB]                  = hb_req;
-    assign tx_n[3*SRC_HB +: 3]             = 3'd2;
-    assign tx_data[32*SRC_HB +: 32]        = {CMD_HB, hb_type, 16'd0};
-    assign hb_done                         = tx_done[SRC_HB];
-
-    bsd_tx #(.MODULE_ADDR(MODULE_ADDR), .K(K), .LONG_SRC(SRC_REPLY), .POWERUP_SRC(SRC_REPLY)) u_tx (
+    bsd_pkt_tx #(.MODULE_ADDR(MODULE_ADDR)) u_tx (
         .clk           (clk),
         .rst           (rst),
         .flush_i       (soft_rst_q),
-        .req_i         (tx_req),
-        .n_i           (tx_n),
-        .data_i        (tx_data),
-        .long_n3_i     (rep_n[3]),
-        .long_data_i   (rep_tail),
-        .done_o        (tx_done),
+        .swapped_o     (tx_swapped),
+        .item_valid_i  (outq_valid || (order_valid && out_skip)),
+        .item_data_i   (outq_valid ? outq_data : order_data),
+        .item_ready_o  (tx_take),
+        .free_o        (tx_free),
+        .idle_o        (tx_idle),
+        .rep_n_i       (rep_n),
+        .rep_data_i    (rep_data),
+        .rep_tail_i    (rep_tail),
+        .hb_type_i     (hb_type),
+        .timer_done_o  (host_done),
+        .timer_idx_o   (host_idx),
+        .reply_done_o  (rep_done),
+        .hb_done_o     (hb_done),
         .m_axis_tdata  (m_axis_tdata),
         .m_axis_tvalid (m_axis_tvalid),
         .m_axis_tready (m_axis_tready),
         .m_axis_tlast  (m_axis_tlast)
     );
 
-    bsd_rflx_arb #(.NUM_PINS(NUM_PINS), .TIMER_ID_BASE(TIMER_ID_BASE)) u_rflx (
-        .clk            (clk),
-        .rst            (core_rst),
-        .dio_req_i      (dio_rflx_req),
-        .dio_id_i       (dio_rflx_id),
-        .dio_val_i      (dio_rflx_val),
-        .dio_below_i    (dio_rflx_below),
-        .dio_done_o     (dio_rflx_done),
-        .timer_req_i    (timer_rflx_req),
-        .timer_result_i (timer_result),
-        .timer_done_o   (timer_rflx_done),
-        .rflx_valid_o   (rflx_valid),
-        .rflx_id_o      (rflx_id),
-        .rflx_data_o    (rflx_data)
-    );
+    // The queues never fill (sized above), and the heartbeat's request is
+    // followed through its item.
+    wire unused_top = ^{evq_ready, outq_ready, tx_take, hb_req, rep_req};
+
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block
+    // The sizing argument above, checked in every simulation: no entry or item is refused.
+    always @(posedge clk) begin
+        if (!rst && ev_new && !ev_skip && !evq_ready)
+            $fatal(1, "brainstem_dio: the event queue is full (an entry would be lost)");
+        if (!rst && order_valid && !out_skip && !outq_ready)
+            $fatal(1, "brainstem_dio: the output queue is full (a packet would be lost)");
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

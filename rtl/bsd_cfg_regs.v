@@ -19,12 +19,18 @@ module bsd_cfg_regs #(
 );
     localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
 
+    // The addressed pin: two 3-bit decoders and one gate per pin.
+    wire [7:0] dec_lo = 8'd1 << pin_idx_i[2:0];
+    wire [7:0] dec_hi = 8'd1 << pin_idx_i[5:3];
+    wire       unused_dec = ^{dec_lo, dec_hi};  // lines beyond NUM_PINS - 1
+
     genvar p;
     generate
         for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
-            reg out_q;
+            wire sel = dec_hi[p / 8] && dec_lo[p % 8];
+            reg  out_q;
             always @(posedge clk) begin
-                if (out_we_i && pin_idx_i == p) out_q <= out_wdata_i;
+                if (out_we_i && sel) out_q <= out_wdata_i;
                 if (rst) out_q <= 1'b0;
             end
             assign out_o[p] = out_q;
@@ -34,7 +40,7 @@ module bsd_cfg_regs #(
             end else begin : g_free
                 reg [4:0] cfg_q;
                 always @(posedge clk) begin
-                    if (cfg_we_i && pin_idx_i == p) cfg_q <= cfg_wdata_i;
+                    if (cfg_we_i && sel) cfg_q <= cfg_wdata_i;
                     if (rst) cfg_q <= CFG_RESET;
                 end
                 assign cfg_o[5*p +: 5] = cfg_q;

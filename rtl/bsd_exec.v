@@ -105,18 +105,27 @@ module bsd_exec #(
     wire c_rst  = is_cmd && pkt_d0_i == CMD_DIG_RST && n_ge2;
     wire c_time = is_cmd && pkt_d0_i == CMD_PTIME_RD && n_ge2;
 
-    reg [NUM_PINS-1:0] do_cfg, do_out, do_rst, do_start;
-    integer q;
-    always @* begin
-        for (q = 0; q < NUM_PINS; q = q + 1) begin
-            // A `pin` byte must match whole; a DEVCODE's pin is its bits 5:0.
-            do_cfg[q]   = c_cfg && pkt_d1_i == q[7:0] && !FIXED_MASK[q];
-            do_out[q]   = c_out && pkt_d1_i == q[7:0] && !cfg_i[5*q + IODIR];
-            do_rst[q]   = c_rst && pkt_d1_i == q[7:0];
-            do_start[q] = c_time && dev_pin == q[5:0] && TIMER_MASK[q] && cfg_i[5*q + IODIR] &&
-                          !timer_busy_i[q];
+    // The addressed pin as a one-hot: two 3-bit decoders and one gate per pin
+    // (a compare of the whole index per pin and strobe would cost several).
+    // A `pin` byte must match whole (bits 7:6 zero); a DEVCODE's pin is its
+    // bits 5:0.
+    wire [7:0]          dec_lo = 8'd1 << dev_pin[2:0];
+    wire [7:0]          dec_hi = 8'd1 << dev_pin[5:3];
+    wire                unused_dec = ^{dec_lo, dec_hi};  // lines beyond NUM_PINS - 1
+    wire [NUM_PINS-1:0] sel;
+    wire [NUM_PINS-1:0] is_input;
+    genvar g;
+    generate
+        for (g = 0; g < NUM_PINS; g = g + 1) begin : g_sel
+            assign sel[g]      = dec_hi[g / 8] && dec_lo[g % 8];
+            assign is_input[g] = cfg_i[5*g + IODIR];
         end
-    end
+    endgenerate
+    wire                pin_byte = pkt_d1_i[7:6] == 2'b00;
+    wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}} & ~FIXED_MASK;
+    wire [NUM_PINS-1:0] do_out   = sel & {NUM_PINS{c_out && pin_byte}} & ~is_input;
+    wire [NUM_PINS-1:0] do_rst   = sel & {NUM_PINS{c_rst && pin_byte}};
+    wire [NUM_PINS-1:0] do_start = sel & {NUM_PINS{c_time}} & TIMER_MASK & is_input & ~timer_busy_i;
 
     reg                s2_valid_q;
     reg                probe_q, serial_q, cmd_q;

@@ -33,6 +33,7 @@ module bsd_fifo #(
     end
 `endif
 
+    (* no_rw_check *)  // never read and written at one address on one clock (below)
     reg [WIDTH-1:0] mem [0:DEPTH-1];
     reg [AW:0]      wr_q;  // one wrap bit above the address
     reg [AW:0]      rd_q;

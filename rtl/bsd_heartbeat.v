@@ -13,6 +13,7 @@ module bsd_heartbeat #(
     input  wire       answer_i,       // a host cmdHB answer (N >= 2, type UP or DOWN + 2)
     input  wire       answer_down_i,  // it answers a DOWN heartbeat
     output wire       req_o,          // a heartbeat packet waits to be sent
+    output wire       new_o,          // one is queued now (req_o rises on the next clock)
     output wire [7:0] type_o,         // its type byte
     input  wire       done_i,         // it has left
     output wire       link_up_o
@@ -38,6 +39,7 @@ module bsd_heartbeat #(
     wire answered = answered_q || answer;
 
     assign req_o     = req_q;
+    assign new_o     = due && !req_q;
     assign type_o    = {7'd0, down_q};
     assign link_up_o = link_up_q;
 

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
-// The executor's two slots and the parser's hold. The reply slot keeps the
-// one waiting reply or message (a packet of up to 8 data bytes: bytes 4..7
-// only for cmdDEBUG's echo) for bsd_tx;
-// the RFLX slot keeps the one waiting DIG_IO RFLX value for bsd_rflx_arb.
-// The parser never completes a packet that could need a slot while it is
+// The executor's reply slot and the parser's hold. The slot keeps the one
+// waiting reply or message (a packet of up to 8 data bytes: bytes 4..7 only
+// for cmdDEBUG's echo) for bsd_pkt_tx; rep_new_o marks the clock it fills
+// (the power-up message's on the clock after reset), an event for the event
+// queue. A DIG_IO RFLX value needs no slot: it is an event of one clock
+// (dio_new_o with its ID and level) and travels in the event queue.
+// The parser never completes a packet that could need the slot while it is
 // full: hold_o covers the clocks from the packet to its request.
 //
 // The reply slot takes stage 2's packet on every clock it is free, so its
@@ -13,10 +15,7 @@
 // flag (rep_wait_q) takes over. The request thus rises when stage 2 ends,
 // 3 clocks after the last byte, and comes from flops only. After reset the
 // slot holds the power-up message, the first packet out.
-module bsd_reply_slot #(
-    parameter integer NUM_PINS      = 5,
-    parameter integer TIMER_ID_BASE = 10
-) (
+module bsd_reply_slot (
     input  wire                clk,
     input  wire                rst,
     input  wire                pkt_valid_i,   // the parser hands a packet to the executor
@@ -31,18 +30,17 @@ module bsd_reply_slot #(
     input  wire                dio_val_i,
     // to the parser: a packet that may need a slot must wait
     output wire                hold_o,
-    // the waiting reply, to bsd_tx: A, rep_n_o, rep_data_o[31:24] .. rep_tail_o[7:0]
+    // the waiting reply, to bsd_pkt_tx: A, rep_n_o, rep_data_o[31:24] .. rep_tail_o[7:0]
     output wire                rep_req_o,
     output wire [3:0]          rep_n_o,
     output wire [31:0]         rep_data_o,
     output wire [31:0]         rep_tail_o,
     input  wire                rep_done_i,
-    // the waiting DIG_IO RFLX value, to bsd_rflx_arb
-    output wire                dio_req_o,
+    output wire                rep_new_o,     // the reply slot has filled (an event)
+    // a DIG_IO RFLX value, to the event queue
+    output wire                dio_new_o,     // a DIG_IO RFLX value (an event, one clock)
     output wire [5:0]          dio_id_o,
-    output wire                dio_val_o,
-    output wire [NUM_PINS-1:0] dio_below_o,   // its device ID is below pin p's timer ID
-    input  wire                dio_done_i
+    output wire                dio_val_o
 );
     `include "bsd_protocol.vh"
 
@@ -51,53 +49,42 @@ module bsd_reply_slot #(
     reg [3:0]          rep_n_q;
     reg [31:0]         rep_data_q;
     reg [31:0]         rep_tail_q;
-    reg                dio_req_q;    // the RFLX slot is full
     reg [5:0]          dio_id_q;
     reg                dio_val_q;
-    reg [NUM_PINS-1:0] dio_below_q;
+    reg                dio_new_q;
+    reg                boot_q;       // the clock after reset: the power-up message's event
     reg                pending_q;    // see hold_o
 
     assign rep_req_o   = reply_q || rep_wait_q;
     assign rep_n_o     = rep_n_q;
     assign rep_data_o  = rep_data_q;
     assign rep_tail_o  = rep_tail_q;
-    assign dio_req_o   = dio_req_q;
     assign dio_id_o    = dio_id_q;
     assign dio_val_o   = dio_val_q;
-    assign dio_below_o = dio_below_q;
+    assign rep_new_o   = reply_q || boot_q;
+    assign dio_new_o   = dio_new_q;
 
-    // hold_o: a slot is full, or a packet is on its way through the stages
-    // and may fill one. pending_q is that condition for every stage after
+    // hold_o: the slot is full, or a packet is on its way through the stages
+    // and may fill it. pending_q is that condition for every stage after
     // the first, worked out a clock ahead (from each flag's next value) so
     // that hold_o, which gates the parser's s_axis_tready, is one gate.
     wire rep_wait_d = rep_req_o && !rep_done_i;
-    wire dio_req_d  = dio_rflx_i || (dio_req_q && !dio_done_i);
     assign hold_o = pkt_valid_i || pending_q;
-
-    // The RFLX arbiter ranks the waiting DIG_IO value against the timers by
-    // device ID; comparing here, as the value is stored, keeps the
-    // comparators out of the arbiter's clock.
-    reg [NUM_PINS-1:0] below;
-    integer b;
-    always @* begin
-        for (b = 0; b < NUM_PINS; b = b + 1)
-            below[b] = dio_id_i < TIMER_ID_BASE[5:0] + b[5:0];
-    end
 
     always @(posedge clk) begin
         reply_q    <= reply_i;
         rep_wait_q <= rep_wait_d;
-        pending_q  <= pkt_valid_i || reply_i || rep_wait_d || dio_req_d;
+        pending_q  <= pkt_valid_i || reply_i || rep_wait_d;
         if (s2_valid_i && !rep_req_o) begin
             rep_n_q    <= reply_n_i;
             rep_data_q <= reply_data_i;
             rep_tail_q <= reply_tail_i;
         end
-        dio_req_q <= dio_req_d;
+        dio_new_q <= dio_rflx_i;
+        boot_q    <= 1'b0;
         if (dio_rflx_i) begin
             dio_id_q    <= dio_id_i;
             dio_val_q   <= dio_val_i;
-            dio_below_q <= below;
         end
         if (rst) begin
             // The power-up message is the first packet out.
@@ -107,10 +94,10 @@ module bsd_reply_slot #(
             rep_n_q     <= 4'd2;
             rep_data_q  <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
             rep_tail_q  <= 32'd0;
-            dio_req_q   <= 1'b0;
             dio_id_q    <= 6'd0;
             dio_val_q   <= 1'b0;
-            dio_below_q <= {NUM_PINS{1'b0}};
+            dio_new_q   <= 1'b0;
+            boot_q      <= 1'b1;
         end
     end
 

@@ -383,7 +383,7 @@ def _flat_cells(stat: dict, top: str, family: str = "ice40") -> dict:
 
 def _parse_module(raw: str) -> tuple[str, dict[str, object]]:
     r"""`$paramod\bsd_tick_gen\CLK_HZ=s32'101...` -> ("bsd_tick_gen", {"CLK_HZ": 12000000});
-    `$paramod$<hash>\bsd_event_timer` -> ("bsd_event_timer", {})."""
+    `$paramod$<hash>\bsd_drain` -> ("bsd_drain", {})."""
     if not raw.startswith("$paramod"):
         return raw, {}
     parts = raw.split("\\")

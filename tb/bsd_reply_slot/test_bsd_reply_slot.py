@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: Apache-2.0
 """cocotb tests of bsd_reply_slot, and their pytest entry.
 
-Checked against DESIGN.md decision 2 (one command reply/message and one DIG_IO RFLX value
-can wait at a time; while either waits, or a packet is on its way through the executor, the
-parser must hold), PROTOCOL.md §6 (the power-up message `A, 2, 0x80, statePowerReset` is the
-first packet out) and the block's header comment: stage 2's reply becomes the request on
-the next clock (3 clocks after the last byte) and stays until rep_done_i; the RFLX value
-waits from dio_rflx_i until dio_done_i, with dio_below_o[p] = its ID < TIMER_ID_BASE + p;
-hold_o = pkt_valid_i, or a packet in the stages, or a slot full.
+Checked against DESIGN.md decision 2 (one command reply/message can wait at a time; while
+it waits, or a packet is on its way through the executor, the parser must hold),
+PROTOCOL.md §6 (the power-up message `A, 2, 0x80, statePowerReset` is the first packet out)
+and the block's header comment: stage 2's reply becomes the request on the next clock (3
+clocks after the last byte) and stays until rep_done_i; rep_new_o (the event queue's reply
+bit) is the clock the request rises; a DIG_IO RFLX value is an event of the clock after
+dio_rflx_i (dio_new_o with its ID and level) and never holds anything; hold_o = pkt_valid_i,
+or a packet in the stages, or the slot full.
 
 SlotModel is that text; all outputs are sampled before each rising edge and compared with
 it on every clock. The system test plays the parser (a packet only while hold_o is 0),
@@ -22,11 +23,9 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from bsd_protocol import CMD_MSG, MSG_N, MSG_STATE_POWER_RESET
 from clocked_tb import ClockedTB
-from runner import hdl_params
 from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_reply_slot", {"pins5": {"NUM_PINS": 5, "TIMER_ID_BASE": 10},
-                                           "pins8-id56": {"NUM_PINS": 8, "TIMER_ID_BASE": 56}}, quick=on("icarus"))
+SUITE = Suite(__file__, "bsd_reply_slot", {"default": {}}, quick=on("icarus"))
 POWER_UP = (MSG_N, [CMD_MSG, MSG_STATE_POWER_RESET])
 
 
@@ -35,15 +34,15 @@ def word(data: list[int]) -> int:
 
 
 class SlotModel:
-    def __init__(self, n: int, base: int) -> None:
-        self.n, self.base = n, base
+    def __init__(self) -> None:
         self.reset()
 
     def reset(self) -> None:
         self.decided = False          # stage 2 chose a reply last clock
         self.waiting = True           # the reply slot is full (the power-up message)
+        self.boot = True              # the clock after reset: the power-up message's event
         self.reply: tuple[int, list[int]] = POWER_UP
-        self.dio: tuple[int, int] | None = None
+        self.dio: tuple[int, int] | None = None   # a DIG_IO RFLX event this clock
         self.in_stages = True         # hold after reset until the power-up message left
 
     @property
@@ -52,13 +51,11 @@ class SlotModel:
 
     def outputs(self, v: dict) -> dict:
         o = dict(hold_o=int(bool(v["pkt_valid_i"]) or self.in_stages), rep_req_o=int(self.rep_req),
-                 dio_req_o=int(self.dio is not None))
+                 rep_new_o=int(self.decided or self.boot), dio_new_o=int(self.dio is not None))
         if self.rep_req:
             o.update(rep_n_o=self.reply[0], _rep=self.reply[1][:self.reply[0]])
         if self.dio is not None:
-            i = self.dio[0]
-            o.update(dio_id_o=i, dio_val_o=self.dio[1],
-                     dio_below_o=sum(1 << p for p in range(self.n) if i < self.base + p))
+            o.update(dio_id_o=self.dio[0], dio_val_o=self.dio[1])
         return o
 
     def edge(self, v: dict) -> None:
@@ -66,26 +63,21 @@ class SlotModel:
         if v["s2_valid_i"] and not self.rep_req:
             n = v["reply_n_i"]
             self.reply = (n, [(v["reply_data_i"] >> (24 - 8 * j)) & 0xFF for j in range(4)])
-        self.decided, self.waiting = bool(v["reply_i"]), waiting
-        if v["dio_rflx_i"]:
-            self.dio = (v["dio_id_i"], v["dio_val_i"])
-        elif v["dio_done_i"]:
-            self.dio = None
-        self.in_stages = bool(v["pkt_valid_i"] or v["reply_i"] or waiting or self.dio is not None)
+        self.decided, self.waiting, self.boot = bool(v["reply_i"]), waiting, False
+        self.dio = (v["dio_id_i"], v["dio_val_i"]) if v["dio_rflx_i"] else None
+        self.in_stages = bool(v["pkt_valid_i"] or v["reply_i"] or waiting)
 
 
 class SlotTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
-                  dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0, dio_done_i=0)
-    PULSES = ("pkt_valid_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i", "dio_done_i")
-    OUTPUTS = ("hold_o", "rep_req_o", "rep_n_o", "rep_data_o", "dio_req_o", "dio_id_o",
-               "dio_val_o", "dio_below_o")
+                  dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0)
+    PULSES = ("pkt_valid_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
+    OUTPUTS = ("hold_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
+               "dio_id_o", "dio_val_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "reply_slot")
-        p = hdl_params()
-        self.n, self.base = int(p["NUM_PINS"]), int(p["TIMER_ID_BASE"])
-        self.model = SlotModel(self.n, self.base)
+        self.model = SlotModel()
         self.clocks = 0
 
     async def step(self, rst: int = 0, **inputs: int) -> dict:
@@ -162,30 +154,26 @@ async def test_reply_latency_and_hold(dut) -> None:
 
 @SUITE.test()
 async def test_rflx_value(dut) -> None:
-    """A DIG_IO RFLX value waits from the clock after dio_rflx_i until dio_done_i, with its
-    ID, level and the below-timer mask; hold_o while it waits."""
+    """A DIG_IO RFLX value is an event of exactly the clock after dio_rflx_i, with its ID
+    and level, and holds nothing: hold_o only for the packet's two stages."""
     tb = SlotTB(dut)
     await free(tb)
-    for dio_id in (0, tb.base - 1, tb.base + tb.n, 63):
-        if dio_id >= 64:
-            continue
-        await tb.step(pkt_valid_i=1)
-        await tb.step(s2_valid_i=1, dio_rflx_i=1, dio_id_i=dio_id, dio_val_i=1)
-        for _ in range(3):
-            out = await tb.step()
-            assert (out["dio_req_o"], out["dio_id_o"], out["dio_val_o"], out["hold_o"]) == \
-                (1, dio_id, 1, 1)
-        await tb.step(dio_done_i=1)
+    for dio_id, val in ((0, 1), (9, 0), (40, 1), (63, 1)):
+        assert (await tb.step(pkt_valid_i=1))["hold_o"] == 1
+        out = await tb.step(s2_valid_i=1, dio_rflx_i=1, dio_id_i=dio_id, dio_val_i=val)
+        assert out["dio_new_o"] == 0
         out = await tb.step()
-        assert out["dio_req_o"] == 0
-        assert (await tb.step())["hold_o"] == 0
+        assert (out["dio_new_o"], out["dio_id_o"], out["dio_val_o"], out["hold_o"]) == \
+            (1, dio_id, val, 0)
+        assert (await tb.step())["dio_new_o"] == 0
 
 
 @SUITE.test()
 async def test_system_random(dut) -> None:
     """The parser hands a packet only while hold_o is 0, stage 2 follows a clock later with
-    a random reply and/or RFLX value, consumers take them after random delays, rare resets:
-    every reply and value comes out once, in order, none overwritten."""
+    a random reply and/or RFLX value, the transmitter takes replies after random delays:
+    every reply comes out once, in order, none overwritten, and every RFLX value is an
+    event once, in order."""
     tb = SlotTB(dut)
     rng = tb.rng
     await tb.reset()
@@ -210,16 +198,14 @@ async def test_system_random(dut) -> None:
             if rng.random() < 0.3:
                 v = (rng.randrange(64), rng.randrange(2))
                 kw.update(dio_rflx_i=1, dio_id_i=v[0], dio_val_i=v[1])
-                assert tb.model.dio is None, "an RFLX value while its slot is full"
                 expect_dio.append(v)
         # the consumers, from the state of this clock (the model, checked equal to the DUT)
         m = tb.model
         if m.rep_req and rng.random() < 0.25:
             kw["rep_done_i"] = 1
             got_rep.append((m.reply[0], m.reply[1][:m.reply[0]]))
-        if m.dio is not None and rng.random() < 0.4:
-            kw["dio_done_i"] = 1
-            got_dio.append(m.dio)
+        if out.get("dio_new_o"):
+            got_dio.append((out["dio_id_o"], out["dio_val_o"]))
         # the parser: a packet only on a clock after one with hold_o 0 (the handover)
         if not out["hold_o"] and rng.random() < 0.7:
             kw["pkt_valid_i"] = 1

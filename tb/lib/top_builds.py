@@ -36,6 +36,17 @@ PARAMS: dict[str, Params] = {
     # clock low enough that many 0.1 ms polls are cheap.
     "clk8": Params(clk_hz=8_000_000),
     "clk8_poll0": Params(clk_hz=8_000_000, poll_hz=0),
+    # 64 pins with a timer on every one (device IDs 0..63 for levels and timers alike), at
+    # the lowest clock (3.2 clocks a tick: 64 timeouts and a 200 ms stall are cheap) and at
+    # 2.5, 12 and 48 MHz for the accuracy of 64 timers at once.
+    "t64_2": Params(clk_hz=2_000_000, num_pins=64, timer_mask=(1 << 64) - 1, pin_id_base=0,
+                    timer_id_base=0, trans_id_base=0),
+    "t64_2p5": Params(clk_hz=2_500_000, num_pins=64, timer_mask=(1 << 64) - 1, pin_id_base=0,
+                      timer_id_base=0, trans_id_base=0),
+    "t64_12": Params(clk_hz=12_000_000, num_pins=64, timer_mask=(1 << 64) - 1, pin_id_base=0,
+                     timer_id_base=0, trans_id_base=0),
+    "t64_48": Params(clk_hz=48_000_000, num_pins=64, timer_mask=(1 << 64) - 1, pin_id_base=0,
+                     timer_id_base=0, trans_id_base=0),
 }
 
 BUILDS: dict[str, dict[str, object]] = {name: p.to_hdl() for name, p in PARAMS.items()}

@@ -58,7 +58,7 @@ def test_repository_cocotb_tests_are_found_without_cocotb():
     found = testplan.find_tests(Layout())
     assert "test_rearm_meets_edge" in found.cocotb["tb/brainstem_dio/test_latch.py"]
     # Stacked decorators (@SUITE.test() then @cocotb.parametrize) count once.
-    assert found.cocotb["tb/bsd_event_timer/test_bsd_event_timer.py"].count("test_edge_mode") == 1
+    assert found.cocotb["tb/bsd_parser/test_bsd_parser.py"].count("test_inter_byte_timeout") == 1
     # The Suite's pytest entry is not a cocotb test; a Suite used inside a test function is not either.
     assert "test_latch_top" in found.entries["tb/brainstem_dio/test_latch.py"]
     assert "tb/runner/test_runner.py" not in found.cocotb

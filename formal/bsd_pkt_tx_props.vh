@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: Apache-2.0
+// Formal properties of bsd_pkt_tx (included at the end of the module under `ifdef FORMAL).
+// The output queue's head is assumed to obey AXI-Stream (offered until taken, unchanged);
+// the reply slot and the heartbeat hold their packet while an item of theirs is offered or
+// its packet is going out (they change only after its done); rep_n_i <= 8; m_axis_tready
+// free. Asserted (PROTOCOL.md §2, §5): m_axis obeys AXI-Stream (tvalid held until taken,
+// tdata and tlast unchanged while stalled); every packet is `A, N, ..` with tlast exactly
+// on byte N + 1 (N as the item's source gives it); one item per packet: an item is taken
+// only on a clock with no byte left to send but the last one's handshake; the source's
+// done comes exactly with its packet's last handshake.
+    reg        f_past_valid = 1'b0;
+    reg        f_rst_q, f_iv_q, f_ir_q, f_mv_q, f_mr_q, f_ml_q;
+    reg [29:0] f_id_q;
+    reg [7:0]  f_md_q;
+    reg [3:0]  f_pos, f_n;
+    reg [1:0]  f_kind;
+    reg        f_busy;   // a packet is going out
+    reg [31:0] f_rd, f_rt;
+    reg [7:0]  f_ht;
+
+    wire f_hs = m_axis_tvalid && m_axis_tready;
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_rst_q <= rst;
+        f_iv_q <= item_valid_i; f_ir_q <= item_ready_o; f_id_q <= item_data_i;
+        f_mv_q <= m_axis_tvalid; f_mr_q <= m_axis_tready; f_md_q <= m_axis_tdata; f_ml_q <= m_axis_tlast;
+        if (f_hs) begin
+            f_pos <= f_pos + 4'd1;
+            if (m_axis_tlast) f_busy <= 1'b0;
+        end
+        if (item_valid_i && item_ready_o) begin
+            f_busy <= 1'b1;
+            f_pos  <= 4'd0;
+            f_kind <= item_data_i[29:28];
+            f_n    <= item_data_i[29:28] == 2'd0 ? 4'd4 : item_data_i[29:28] == 2'd1 ? rep_n_i : 4'd2;
+            f_rd   <= rep_data_i;
+            f_rt   <= rep_tail_i;
+            f_ht   <= hb_type_i;
+        end
+        if (rst) begin
+            f_busy <= 1'b0;
+            f_pos  <= 4'd0;
+        end
+    end
+
+    always @(*) begin
+        if (!f_past_valid) assume(rst);
+        if (f_past_valid && !f_rst_q && f_iv_q && !f_ir_q) assume(item_valid_i && item_data_i == f_id_q);
+        assume(item_data_i[29:28] != 2'd3);
+        assume(rep_n_i <= 4'd8);
+        assume(!flush_i);  // cmdRESET: formal/brainstem_dio.sby's reset tasks, tb/brainstem_dio/test_soft_reset.py
+        // the reply slot and the heartbeat keep their packet while it goes out
+        if (f_past_valid && !f_rst_q && f_busy) begin
+            if (f_kind == 2'd1) assume(rep_n_i == f_n && rep_data_i == f_rd && rep_tail_i == f_rt);
+            if (f_kind == 2'd2) assume(hb_type_i == f_ht);
+        end
+
+        if (f_past_valid && !rst && !f_rst_q) begin
+            if (f_mv_q && !f_mr_q) assert(m_axis_tvalid && m_axis_tdata == f_md_q && m_axis_tlast == f_ml_q);
+            assert(m_axis_tvalid == f_busy);
+            if (f_busy) begin
+                assert(pos_q == f_pos && n_q == f_n && kind_q == f_kind && f_kind != 2'd3);
+                assert(f_n <= 4'd8 && last_q == (f_pos == f_n + 4'd1));
+                assert(credit_q && first_q == (f_pos == 4'd0));
+                assert(m_axis_tlast == (f_pos == f_n + 4'd1));
+                assert(f_pos <= f_n + 4'd1);
+                if (f_pos == 4'd0) assert(m_axis_tdata == MODULE_ADDR[7:0]);
+                if (f_pos == 4'd1) assert(m_axis_tdata == {4'd0, f_n});
+            end
+            if (item_ready_o) assert(!f_busy || (f_hs && m_axis_tlast));
+            assert((timer_done_o || reply_done_o || hb_done_o) == (f_hs && m_axis_tlast));
+            if (f_hs && m_axis_tlast)
+                assert(timer_done_o == (f_kind == 2'd0) && reply_done_o == (f_kind == 2'd1) &&
+                       hb_done_o == (f_kind == 2'd2));
+        end
+    end
+
+    always @(*) if (f_past_valid && !f_rst_q && !rst) begin
+        cover(f_hs && m_axis_tlast && f_kind == 2'd1 && f_n == 4'd8);   // a cmdDEBUG echo of 8
+        cover(f_hs && m_axis_tlast && item_ready_o);                     // back to back
+        cover(timer_done_o && f_past_valid);
+    end

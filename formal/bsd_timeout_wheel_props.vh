@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+// Formal properties of bsd_timeout_wheel (included at the end of the module under `ifdef
+// FORMAL). Assumed as brainstem_dio has it: at most one start a clock, only of a timer that
+// is not running; run_i rises only the clock after that timer's start; ticks at least 3
+// clocks apart (CLK_HZ >= 2 MHz). T (t_i) is free here, so the
+// races hold whatever T does; that every timeout is caught in time rests on the scanner's
+// lap (NUM_TIMERS clocks, doubled by starts) against the 60-tick window, and is simulated
+// (tb/bsd_timeout_wheel, tb/brainstem_dio/test_scale.py).
+// Asserted, the races of insert against completion and restart: a timer's bit is never
+// inserted for a start read on the clock of a start of it or the clock before (the read
+// may be the previous run's) or the clock after (stage 3); never for a timer that is not running or already inserted;
+// the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
+// earlier run never counts); expire_o only names inserted timers; an insert never shares
+// the write port with a slot's clearing (the scanner waits instead).
+    reg                  f_past_valid = 1'b0;
+    reg                  f_rst_q, f_tick_q, f_tick2_q;
+    reg [NUM_TIMERS-1:0] f_start_q, f_start2_q, f_start3_q;
+    reg [NUM_TIMERS-1:0] f_run_q;
+
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_rst_q    <= rst;
+        f_tick_q   <= tick_i && !rst;
+        f_tick2_q  <= f_tick_q && !rst;
+        f_start_q  <= rst ? NONE : start_i;
+        f_start2_q <= rst ? NONE : f_start_q;
+        f_start3_q <= rst ? NONE : f_start2_q;
+        f_run_q    <= run_i;
+    end
+
+    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan3_q) : NONE;
+
+    always @(*) begin
+        if (!f_past_valid) assume(rst);
+        assume((start_i & (start_i - 1'b1)) == NONE);
+        assume((start_i & run_i) == NONE);
+        if (f_past_valid) assume((run_i & ~f_run_q) == f_start_q);
+        if (rst) assume(run_i == NONE);
+        if (f_past_valid && (f_tick_q || f_tick2_q)) assume(!tick_i);
+
+        if (f_past_valid && !rst && !f_rst_q) begin
+            assert((f_ins_now & (start_i | f_start_q | f_start2_q | f_start3_q)) == NONE);
+            if (insert) assert(scan3_q < NUM_TIMERS && run_i[scan3_q] && !ins_q[scan3_q]);
+            assert((f_start_q & (ins_q | expire_o)) == NONE);
+            assert((expire_o & ~ins_q) == NONE);
+            assert(!(insert && clear));
+            // induction: the stage-2 flags follow the clocks they were taken on
+            if (f_start_q != NONE || f_start2_q != NONE) assert(stale_q);
+            if (f_start_q != NONE || f_start2_q != NONE || f_start3_q != NONE) assert(stale3_q);
+            assert(tick2_q == f_tick2_q && tick1_q == f_tick_q);
+        end
+    end
+
+    always @(*) if (f_past_valid && !f_rst_q && !rst) begin
+        cover(insert);
+        cover(tick_i && (expire_o & run_i) != NONE);             // a timeout
+        cover(f_start_q[0] && expire_q[0]);                       // restart after a slot was read
+    end

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: Apache-2.0
+// Formal properties of bsd_timer_bank (included at the end of the module under `ifdef FORMAL).
+// The neighbours are assumed as brainstem_dio has them: a start only of an idle timer
+// (bsd_exec checks busy_o), at most one a clock; host_done_i / rflx_done_i only for a timer
+// whose delivery is pending and whose measurement has ended (the packet or strobe of its
+// result), with an index below NUM_TIMERS. Levels, ticks, expire_i, modes: free.
+// A reference written from PROTOCOL.md §4.2 and DESIGN.md decision 3 keeps, per timer, the
+// deliveries its start asked for until each is done. Asserted: busy_o is the measurement
+// running or a delivery pending (busy until delivered, exactly); a finish event comes
+// exactly on the clock after a delivering measurement ends, and never otherwise; a
+// reference event only after a start or while running; T counts ticks.
+    reg                  f_past_valid = 1'b0;
+    reg                  f_rst_q, f_tick_q;
+    reg [NUM_TIMERS-1:0] f_host, f_rflx;           // deliveries still owed (the reference)
+    reg [NUM_TIMERS-1:0] f_run_q, f_start_q, f_deliver_q;
+    reg [15:0]           f_t_q;
+
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_rst_q      <= rst;
+        f_tick_q     <= tick_i;
+        f_run_q      <= run_q;
+        f_start_q    <= start_i;
+        f_deliver_q  <= host_q | rflx_q;
+        f_t_q        <= t_q;
+        f_host <= (f_host & ~(host_done_i ? ONE << host_idx_i : NONE)) | (start_i & {NUM_TIMERS{host_i}});
+        f_rflx <= (f_rflx & ~(rflx_done_i ? ONE << rflx_idx_i : NONE)) | (start_i & {NUM_TIMERS{rflx_i}});
+        if (rst) begin
+            f_host <= NONE;
+            f_rflx <= NONE;
+        end
+    end
+
+    integer f_k;
+    always @(*) begin
+        if (!f_past_valid) assume(rst);
+        assume((start_i & busy_o) == NONE);
+        assume((start_i & (start_i - 1'b1)) == NONE);
+        if (host_done_i) assume(host_idx_i < NUM_TIMERS && host_q[host_idx_i] && !run_q[host_idx_i]);
+        if (rflx_done_i) assume(rflx_idx_i < NUM_TIMERS && rflx_q[rflx_idx_i] && !run_q[rflx_idx_i]);
+
+        if (f_past_valid && !rst) begin
+            assert(host_pend_o == f_host && rflx_pend_o == f_rflx);
+            assert(busy_o == (run_q | f_host | f_rflx));
+            if (!f_rst_q) begin
+                for (f_k = 0; f_k < NUM_TIMERS; f_k = f_k + 1) begin
+                    // A finish event: exactly the clock after a delivering run ended.
+                    assert(ev_f_q[f_k] == (f_run_q[f_k] && !run_q[f_k] && f_deliver_q[f_k]));
+                    // A reference event: after a start or while running, never from an idle timer.
+                    if (ev_r_q[f_k]) assert(f_start_q[f_k] || f_run_q[f_k]);
+                    if (tmo_q[f_k]) assert(!run_q[f_k]);
+                end
+                assert(t_q == f_t_q + {15'd0, f_tick_q});
+            end
+            assert(ev_any_q == |(ev_r_q | ev_f_q));
+        end
+    end
+
+    always @(*) if (f_past_valid && !f_rst_q && !rst) begin
+        cover(ev_f_q[0] && tmo_q[0]);                         // a timeout delivered
+        cover(ev_f_q == {NUM_TIMERS{1'b1}});                  // every timer finishing on one clock
+        cover(f_start_q[1] && ev_r_q[1] && !f_run_q[1]);      // an edge-mode start's reference
+        cover(busy_o == NONE && f_host == NONE && tmo_q[1]);  // delivered, free again
+    end

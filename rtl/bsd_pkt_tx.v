@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// Sends whole packets `A, N, d0..` onto m_axis in the order of the output
+// queue (bsd_drain fills it in event order). An item names its packet
+// instead of carrying it: a timer result (the timer and its 16-bit value),
+// the command reply (its bytes wait in bsd_reply_slot) or the heartbeat
+// (its type waits in bsd_heartbeat). So there is no K-way packet mux and no
+// arbiter: the head item is taken on the clock of the previous packet's
+// last handshake (packets leave back to back), and m_axis_tdata is a byte
+// mux driven by registers (the byte index, the source), which m_axis_tready
+// only advances. When a packet's last byte
+// leaves, its source is told (timer_done_o with its index, reply_done_o,
+// hb_done_o): a timer is busy, and the reply slot full, until then.
+//
+// flush_i (cmdRESET, while the sources and the queue are reset around it):
+// no item is taken; a packet with a byte already taken is finished, so the
+// host's framing holds, and credits nobody. One whose first byte is offered
+// but not yet taken cannot be withdrawn (AXI-Stream), but every packet starts
+// with the address, so it becomes the power-up message in place, credited to
+// the reply slot (which holds that message after the reset); swapped_o tells
+// the top on the next clock, so that the message is not queued again.
+module bsd_pkt_tx #(
+    parameter integer MODULE_ADDR = 2
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        flush_i,      // cmdRESET
+    output wire        swapped_o,    // the last clock's flush made the power-up message
+    // the output queue's head: {kind, timer, its device ID, result}
+    input  wire        item_valid_i,
+    input  wire [29:0] item_data_i,
+    output wire        item_ready_o,
+    output wire        free_o,       // an item offered now would be taken
+    output wire        idle_o,       // no packet going out (from flops only)
+    // the reply slot: A, rep_n_i, rep_data_i[31:24] .. rep_tail_i[7:0]
+    input  wire [3:0]  rep_n_i,
+    input  wire [31:0] rep_data_i,
+    input  wire [31:0] rep_tail_i,
+    input  wire [7:0]  hb_type_i,
+    output wire        timer_done_o,
+    output wire [5:0]  timer_idx_o,
+    output wire        reply_done_o,
+    output wire        hb_done_o,
+    output wire [7:0]  m_axis_tdata,
+    output wire        m_axis_tvalid,
+    input  wire        m_axis_tready,
+    output wire        m_axis_tlast
+);
+    `include "bsd_protocol.vh"
+
+    localparam [1:0] KIND_TIMER = 2'd0;
+    localparam [1:0] KIND_REPLY = 2'd1;
+    localparam [1:0] KIND_HB    = 2'd2;
+    localparam [7:0] ADDR_OWN   = MODULE_ADDR[7:0];
+
+    // The packet going out: its source and the byte offered. The bytes are
+    // picked from where they wait (the reply slot, the heartbeat, the result
+    // held here) by a byte index, so nothing is copied into a shift register.
+    reg        valid_q;
+    reg        last_q;   // the byte offered is the packet's last
+    reg [3:0]  pos_q;    // the byte offered: 0 address, 1 N, 2.. data
+    reg [3:0]  n_q;
+    reg [1:0]  kind_q;
+    reg [5:0]  idx_q;
+    reg [5:0]  id_q;
+    reg [15:0] result_q;
+    reg        first_q;   // no byte of it taken yet
+    // The reply's bytes and the heartbeat's type, copied as the packet starts:
+    // a cmdRESET resets their sources while the packet may still be going out.
+    reg [31:0] rep_data_q, rep_tail_q;
+    reg [7:0]  hb_type_q;
+    reg        swapped_q;
+    reg        credit_q;  // its source is told when it has left (not after a cmdRESET)
+
+    wire       hs   = valid_q && m_axis_tready;
+    wire       free = !flush_i && (!valid_q || (hs && last_q));
+    wire       load = item_valid_i && free;
+    wire       swap = flush_i && valid_q && first_q && !m_axis_tready;
+    wire [1:0] kind = item_data_i[29:28];
+    wire [3:0] n    = kind == KIND_TIMER ? 4'd4 : kind == KIND_REPLY ? rep_n_i : 4'd2;
+
+    // Data byte d of each source (d0 is the command).
+    reg [7:0] byte_timer, byte_reply, byte_hb, data_byte;
+    always @* begin
+        case (pos_q[1:0])
+            2'd2:    byte_timer = CMD_DEV_VAL;
+            2'd3:    byte_timer = {2'b00, id_q};
+            2'd0:    byte_timer = result_q[15:8];
+            default: byte_timer = result_q[7:0];
+        endcase
+        case (pos_q)
+            4'd2:    byte_reply = rep_data_q[31:24];
+            4'd3:    byte_reply = rep_data_q[23:16];
+            4'd4:    byte_reply = rep_data_q[15:8];
+            4'd5:    byte_reply = rep_data_q[7:0];
+            4'd6:    byte_reply = rep_tail_q[31:24];
+            4'd7:    byte_reply = rep_tail_q[23:16];
+            4'd8:    byte_reply = rep_tail_q[15:8];
+            default: byte_reply = rep_tail_q[7:0];
+        endcase
+        byte_hb   = pos_q[0] ? hb_type_q : CMD_HB;
+        data_byte = kind_q == KIND_TIMER ? byte_timer : kind_q == KIND_REPLY ? byte_reply : byte_hb;
+    end
+
+    wire done = hs && last_q && credit_q;
+    assign item_ready_o  = load;
+    assign free_o        = free;
+    assign idle_o        = !valid_q;
+    assign swapped_o     = swapped_q;
+    assign timer_done_o  = done && kind_q == KIND_TIMER;
+    assign timer_idx_o   = idx_q;
+    assign reply_done_o  = done && kind_q == KIND_REPLY;
+    assign hb_done_o     = done && kind_q == KIND_HB;
+    assign m_axis_tdata  = pos_q == 4'd0 ? ADDR_OWN : pos_q == 4'd1 ? {4'd0, n_q} : data_byte;
+    assign m_axis_tvalid = valid_q;
+    assign m_axis_tlast  = last_q;
+
+    always @(posedge clk) begin
+        if (load) begin
+            valid_q  <= 1'b1;
+            last_q   <= 1'b0;  // a packet is at least A, N
+            pos_q    <= 4'd0;
+            n_q      <= n;
+            kind_q   <= kind;
+            idx_q    <= item_data_i[27:22];
+            first_q  <= 1'b1;
+            rep_data_q <= rep_data_i;
+            rep_tail_q <= rep_tail_i;
+            hb_type_q  <= hb_type_i;
+            id_q     <= item_data_i[21:16];
+            result_q <= item_data_i[15:0];
+        end else if (hs) begin
+            pos_q   <= pos_q + 4'd1;
+            last_q  <= pos_q == n_q;  // the next byte is d(N-1)
+            first_q <= 1'b0;
+            if (last_q) valid_q <= 1'b0;
+        end
+        swapped_q <= swap;
+        if (flush_i && !swap) credit_q <= 1'b0;  // finished, credited to nobody
+        if (load) credit_q <= 1'b1;
+        if (swap) begin
+            // The address is on offer already; the rest becomes `2, 0x80, 4`.
+            kind_q     <= KIND_REPLY;
+            n_q        <= MSG_N[3:0];
+            rep_data_q <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
+            last_q     <= 1'b0;
+        end
+        if (rst) begin
+            valid_q   <= 1'b0;
+            last_q    <= 1'b0;
+            pos_q     <= 4'd0;
+            first_q   <= 1'b0;
+            swapped_q <= 1'b0;
+            credit_q  <= 1'b0;
+            n_q     <= 4'd0;
+            kind_q  <= 2'd0;
+            idx_q   <= 6'd0;
+        end
+    end
+
+`ifdef FORMAL
+`include "bsd_pkt_tx_props.vh"
+`endif
+endmodule
+`default_nettype wire

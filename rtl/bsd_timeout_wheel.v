@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// Timeouts without a comparator per timer. A measurement times out on the
+// tick that brings T (bsd_timer_bank's tick count) to T_start - 1, 65 535
+// ticks after its start (T is 16 bits). T_start is kept in a block RAM per
+// timer. A background scanner visits one timer per clock, and once a running
+// timer's timeout is 3..62 ticks away it sets the timer's bit in slot
+// T_start mod 64 of a wheel (a block RAM of 64 slots, one bit per timer,
+// written through a bit mask) and marks it inserted. After every tick the
+// slot of the timers whose timeout is the next tick is read and cleared, so
+// expire_o holds exactly those (masked by inserted) in time for it (ticks
+// are at least 3 clocks apart). A lap of the scanner is NUM_TIMERS clocks (21
+// ticks at 2 MHz and 64 timers), well inside the 60-tick window, so every
+// timeout is seen in time.
+//
+// Races: a start clears the timer's inserted bit (a wheel bit of an earlier
+// run then never counts), and a scan that may have read the start of a
+// previous run (any start on the scan's read clock or the clock before: a
+// lap then takes at most twice as long) does not insert. The wheel needs no
+// clearing after reset: every slot is read and cleared within 64 ticks,
+// long before any timer can be inserted (62 ticks before its timeout).
+module bsd_timeout_wheel #(
+    parameter integer NUM_TIMERS = 4
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                tick_i,
+    input  wire [15:0]         t_i,          // bsd_timer_bank's T
+    input  wire [NUM_TIMERS-1:0] start_i,      // the timer that starts now (one at most)
+    input  wire [NUM_TIMERS-1:0] run_i,
+    output wire [NUM_TIMERS-1:0] expire_o
+);
+    localparam [NUM_TIMERS-1:0] ONE   = {{(NUM_TIMERS-1){1'b0}}, 1'b1};
+    localparam [NUM_TIMERS-1:0] NONE  = {NUM_TIMERS{1'b0}};
+    localparam [5:0]          LAST  = NUM_TIMERS[5:0] - 6'd1;  // 64 timers: 63
+
+    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
+    function [63:0] pad(input [NUM_TIMERS-1:0] v);
+        begin
+            pad = 64'd0;
+            pad[NUM_TIMERS-1:0] = v;
+        end
+    endfunction
+
+    // The bits of bit b of a timer number, for the one-hot to number encoder.
+    function [NUM_TIMERS-1:0] index_bit(input integer b);
+        integer t;
+        begin
+            for (t = 0; t < NUM_TIMERS; t = t + 1) index_bit[t] = ((t >> b) & 1) != 0;
+        end
+    endfunction
+
+    wire       start_any = |start_i;
+    wire [5:0] start_idx;
+    genvar g;
+    generate
+        for (g = 0; g < 6; g = g + 1) begin : g_enc
+            localparam [NUM_TIMERS-1:0] BITS = index_bit(g);
+            assign start_idx[g] = |(start_i & BITS);
+        end
+    endgenerate
+
+    // -------------------------------------------------------- start times
+    (* no_rw_check *)  // a read of the address being written is never used (stale_q)
+    reg [15:0] st_mem [0:63];
+    reg        st_q;          // a start on the previous clock
+    reg [5:0]  st_idx_q;
+    always @(posedge clk) begin
+        // T now includes the start clock's tick: T_start.
+        if (st_q) st_mem[st_idx_q] <= t_i;
+    end
+
+    // --------------------------------------------------------------- scanner
+    reg  [5:0]  scan_q;       // stage 1: the timer whose start is read
+    reg  [5:0]  scan2_q;      // stage 2: its start is in st_rd_q
+    reg         stale_q;      // stage 2: the start read may be an earlier run's
+    reg  [15:0] st_rd_q;
+    wire        advance;      // the scanner moves on (it stalls while its insert waits)
+    // The timeout is at T = T_start - 1: 3..62 ticks away when T_start - T is 4..63.
+    wire [15:0] ahead    = st_rd_q - t_i;
+    wire        in_win   = ahead[15:6] == 10'd0 && ahead[5:2] != 4'd0;
+    wire        unused_ahead = ^ahead[1:0];
+    // Stage 3: the window test registered (the 16-bit subtraction stays off
+    // the write port); the timer's state is tested now.
+    reg  [5:0]  scan3_q;
+    reg  [5:0]  slot3_q;      // T_start mod 64: the wheel slot
+    reg         win3_q;
+    reg         stale3_q;     // or a start on stage 2's clock
+    reg  [NUM_TIMERS-1:0] ins_q;  // inserted into the wheel for the current run
+    wire [63:0] run64    = pad(run_i);
+    wire [63:0] ins64    = pad(ins_q);
+    wire        cand     = !stale3_q && win3_q && run64[scan3_q] && !ins64[scan3_q];
+
+    always @(posedge clk) begin
+        if (advance) st_rd_q <= st_mem[scan_q];
+    end
+
+    // ---------------------------------------------------------------- wheel
+    (* no_rw_check *)  // the slot read is never the one written (see in_win)
+    reg [NUM_TIMERS-1:0] wheel [0:63];
+    reg [NUM_TIMERS-1:0] slot_rd_q;
+    reg                tick1_q;   // the clock after a tick: read the next slot
+    reg                tick2_q;   // the clock after that: take it and clear it
+    reg [5:0]          slot_q;    // the slot read
+    reg [NUM_TIMERS-1:0] expire_q;
+
+    // A tick now makes T = t_i + 1: the next tick's timeouts (T = t_i + 2)
+    // are of the timers started at t_i + 3, slot t_i + 3.
+    wire [5:0]          next_slot = t_i[5:0] + 6'd3;
+    // The write port: clearing the slot just read comes first; a candidate
+    // that loses waits a clock (the scanner stalls): a lap that is a multiple
+    // of the tick pattern's period (64 timers at 2 MHz: 16 clocks) would
+    // otherwise meet the clearing clock at the same timers on every lap.
+    wire                clear  = tick2_q;
+    wire                insert = cand && !clear;
+    assign              advance = !(cand && clear);
+    wire                w_en   = clear || insert;
+    wire [5:0]          w_addr = clear ? slot_q : slot3_q;
+    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan3_q);
+    wire                w_bit  = !clear;
+
+    integer b;
+    always @(posedge clk) begin
+        if (w_en) begin
+            for (b = 0; b < NUM_TIMERS; b = b + 1)
+                if (w_mask[b]) wheel[w_addr][b] <= w_bit;
+        end
+        if (tick1_q) slot_rd_q <= wheel[slot_q];
+    end
+
+    // A start after the slot was read drops the timer's bit (a new run).
+    assign expire_o = expire_q & ins_q;
+
+    always @(posedge clk) begin
+        st_q     <= start_any;
+        st_idx_q <= start_idx;
+        if (advance) begin
+            scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
+            scan2_q  <= scan_q;
+            scan3_q  <= scan2_q;
+            slot3_q  <= st_rd_q[5:0];
+            win3_q   <= in_win;
+        end
+        // The start read now may be a previous run's when a new one is
+        // written now (st_q) or next clock (start_any), or (stage 3) on the
+        // clock after. A stall keeps the candidates: they stay stale if they were.
+        stale_q  <= st_q || start_any || (!advance && stale_q);
+        stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
+        ins_q    <= ((ins_q | (insert ? (ONE << scan3_q) : NONE)) & ~start_i);
+        tick1_q  <= tick_i;
+        tick2_q  <= tick1_q;
+        if (tick_i) slot_q <= next_slot;
+        if (tick2_q) expire_q <= slot_rd_q & ins_q;
+        if (rst) begin
+            st_q        <= 1'b0;
+            scan_q      <= 6'd0;
+            scan2_q     <= 6'd0;
+            stale_q     <= 1'b1;
+            stale3_q    <= 1'b1;
+            win3_q      <= 1'b0;
+            scan3_q     <= 6'd0;
+            ins_q       <= NONE;
+            tick1_q     <= 1'b0;
+            tick2_q     <= 1'b0;
+            slot_q      <= 6'd3;
+            expire_q    <= NONE;
+        end
+    end
+
+`ifdef FORMAL
+`include "bsd_timeout_wheel_props.vh"
+`endif
+endmodule
+`default_nettype wire

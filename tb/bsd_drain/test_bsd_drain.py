@@ -1,0 +1,193 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_drain, and their pytest entry.
+
+Checked against PROTOCOL.md §4.2 and §5 and DESIGN.md decisions 1, 4 and 9: entries are
+taken in queue order, and within one entry the items go timers by ascending timer (pin),
+then the reply, then the heartbeat, with the DIG_IO RFLX value before the first timer whose
+device ID is above its own. A reference stores T for its timer; a finish's result is
+T - reference (1 when that is 0, 0 for a timed-out timer); it becomes an output-queue item
+{timer, its ID, result} when the timer's HOST bit is set and an RFLX strobe (with the
+timer's rflx_done_o) when its RFLX bit is; the reply and the heartbeat become items, the
+DIG_IO value a strobe. DrainModel is that text; the item and strobe sequences must equal it.
+The entries come from a queue model with random gaps, several per clock's worth of events.
+"""
+
+from __future__ import annotations
+
+import pytest
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
+
+from clocked_tb import ClockedTB
+from runner import hdl_params
+from suite import Suite, on
+
+# gp1: GP 1.0's timers (pins 1-4, IDs 11-14, consecutive); sparse: timers on pins 1, 2, 5
+# and 7 of 8, IDs 4, 5, 8, 10 (the ID table), so DIG_IO IDs fall between timer IDs.
+BUILDS = {
+    "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "TIMER_ID_BASE": 10, "NT": 4},
+    "sparse": {"NUM_PINS": 8, "TIMER_MASK": "8'b10100110", "TIMER_ID_BASE": 3, "NT": 4},
+}
+SUITE = Suite(__file__, "bsd_drain", BUILDS, quick=on("verilator"))
+TIMER, REPLY, HB = 0, 1, 2
+
+
+def mask_of(text: str) -> int:
+    return int(text.split("'b")[1], 2)
+
+
+class DrainTB(ClockedTB):
+    INPUTS = dict(ev_valid_i=0, ev_data_i=0, host_pend_i=0, rflx_pend_i=0, timed_out_i=0)
+    OUTPUTS = ("ev_ready_o", "order_valid_o", "order_data_o", "rflx_done_o", "rflx_idx_o",
+               "rflx_valid_o", "rflx_id_o", "rflx_data_o")
+
+    def __init__(self, dut) -> None:
+        super().__init__(dut, "drain")
+        p = hdl_params()
+        self.nt = int(p["NT"])
+        mask, base = mask_of(str(p["TIMER_MASK"])), int(p["TIMER_ID_BASE"])
+        self.ids = [base + q for q in range(int(p["NUM_PINS"])) if mask >> q & 1]
+
+    def sample(self) -> dict[str, int]:
+        """Data outputs are meaningful only with their valid (unreset flops read X on Icarus
+        until then): an unresolved value reads as -1."""
+        vals = {k: getattr(self.dut, k).value for k in self.OUTPUTS}
+        return {k: int(v) if v.is_resolvable else -1 for k, v in vals.items()}
+
+    def entry(self, r: int, f: int, rep: int, dio: int, hb: int, dio_id: int, dio_val: int, t: int) -> int:
+        n = self.nt
+        return ((r << (n + 26)) | (f << 26) | (rep << 25) | (dio << 24) | (hb << 23)
+                | (dio_id << 17) | (dio_val << 16) | t)
+
+    async def edge(self, **inputs: int) -> dict:
+        await FallingEdge(self.clk)
+        self.drive(0, **inputs)
+        await ReadOnly()
+        out = self.sample()
+        await RisingEdge(self.clk)
+        return out
+
+
+def model(tb: DrainTB, entries: list[dict], host: int, rflx: int, tmo: int) -> tuple[list, list]:
+    """The output-queue items and RFLX strobes the entries must give, in order."""
+    ref = [None] * tb.nt
+    items, strobes = [], []
+    for e in entries:
+        order = [("t", k) for k in range(tb.nt) if (e["r"] | e["f"]) >> k & 1]
+        if e["dio"]:
+            pos = next((i for i, (_, k) in enumerate(order) if tb.ids[k] > e["dio_id"]), len(order))
+            order.insert(pos, ("dio", 0))
+        for what, k in order:
+            if what == "dio":
+                strobes.append((e["dio_id"], e["dio_val"]))
+            elif e["r"] >> k & 1:
+                ref[k] = e["t"]
+            else:
+                res = 0 if tmo >> k & 1 else max(1, (e["t"] - ref[k]) & 0xFFFF)
+                if host >> k & 1:
+                    items.append((TIMER, k, tb.ids[k], res))
+                if rflx >> k & 1:
+                    strobes.append((tb.ids[k], res))
+        if e["rep"]:
+            items.append((REPLY,))
+        if e["hb"]:
+            items.append((HB,))
+    return items, strobes
+
+
+async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
+    rng, nt = tb.rng, tb.nt
+    host, rflx = rng.getrandbits(nt) | 1, rng.getrandbits(nt) | 2
+    tmo = rng.getrandbits(nt) & ~0b11
+    phase = [0] * nt   # 0: the next event is the reference, 1: the finish
+    entries = []
+    t = rng.randrange(65536)
+    for _ in range(n_entries):
+        t = (t + rng.choice([0, 1, 2, 40000])) & 0xFFFF
+        r = f = 0
+        for k in range(nt):
+            if rng.random() < 0.5:
+                if tmo >> k & 1:
+                    f |= 1 << k          # a timed-out run: a finish with no reference
+                elif phase[k] == 0:
+                    r |= 1 << k
+                    phase[k] = 1
+                else:
+                    f |= 1 << k
+                    phase[k] = 0
+        dio = int(rng.random() < 0.3)
+        entries.append(dict(r=r, f=f, rep=int(rng.random() < 0.3), dio=dio, hb=int(rng.random() < 0.2),
+                            dio_id=rng.choice(tb.ids + [0, 63, tb.ids[0] + 1]) if dio else 0,
+                            dio_val=rng.randrange(2), t=t))
+    entries = [e for e in entries if e["r"] | e["f"] | e["rep"] | e["dio"] | e["hb"]]
+    want_items, want_strobes = model(tb, entries, host, rflx, tmo)
+    got_items, got_strobes, done = [], [], []
+    i = 0
+    for _ in range(12 * len(entries) + 40):
+        kw = dict(host_pend_i=host, rflx_pend_i=rflx, timed_out_i=tmo)
+        if i < len(entries) and rng.random() >= p_gap:
+            e = entries[i]
+            kw.update(ev_valid_i=1, ev_data_i=tb.entry(e["r"], e["f"], e["rep"], e["dio"], e["hb"],
+                                                       e["dio_id"], e["dio_val"], e["t"]))
+        else:
+            kw.update(ev_valid_i=0)
+        out = await tb.edge(**kw)
+        if kw["ev_valid_i"] and out["ev_ready_o"]:
+            i += 1
+        if out["order_valid_o"]:
+            d = out["order_data_o"]
+            kind = d >> 28
+            got_items.append((TIMER, d >> 22 & 63, d >> 16 & 63, d & 0xFFFF) if kind == TIMER else (kind,))
+        if out["rflx_valid_o"]:
+            got_strobes.append((out["rflx_id_o"], out["rflx_data_o"]))
+        if out["rflx_done_o"]:
+            done.append(out["rflx_idx_o"])
+    assert i == len(entries), f"the drain took {i} of {len(entries)} entries"
+    assert got_items == want_items, f"items {got_items[:8]} != {want_items[:8]}"
+    assert got_strobes == want_strobes, f"strobes {got_strobes[:8]} != {want_strobes[:8]}"
+    want_done = [k for e in entries for k in range(nt) if e["f"] >> k & 1 and rflx >> k & 1]
+    assert sorted(done) == sorted(want_done) and len(done) == len(want_done)
+    assert len(want_items) > 20 and len(want_strobes) > 20
+
+
+@SUITE.test()
+async def test_order_and_results(dut) -> None:
+    """Back-to-back entries: items and strobes in entry order, timers ascending, the DIG_IO
+    value placed by its ID, results T - reference (1 for 0, 0 for timeouts)."""
+    tb = DrainTB(dut)
+    await tb.reset()
+    await run(tb, 150, 0.0)
+
+
+@SUITE.test()
+async def test_gaps(dut) -> None:
+    """The same with gaps between entries (an empty queue now and then)."""
+    tb = DrainTB(dut)
+    await tb.reset()
+    await run(tb, 150, 0.5)
+
+
+@SUITE.test()
+async def test_item_a_clock(dut) -> None:
+    """An entry of every timer's finish, the DIG_IO value, the reply and the heartbeat takes
+    exactly one clock per item, and the next entry follows with no idle clock."""
+    tb = DrainTB(dut)
+    await tb.reset()
+    nt, full = tb.nt, (1 << tb.nt) - 1
+    e1 = tb.entry(full, 0, 0, 0, 0, 0, 0, 100)
+    e2 = tb.entry(0, full, 1, 1, 1, 0, 1, 200)
+    e3 = tb.entry(0, 0, 1, 0, 0, 0, 0, 300)
+    taken = []
+    for c in range(3 * nt + 20):
+        pend = [e for j, e in enumerate((e1, e2, e3)) if j >= len(taken)]
+        kw = dict(host_pend_i=full, rflx_pend_i=0, timed_out_i=0)
+        kw.update(ev_valid_i=1, ev_data_i=pend[0]) if pend else kw.update(ev_valid_i=0)
+        out = await tb.edge(**kw)
+        if pend and out["ev_ready_o"]:
+            taken.append(c)
+    # e1: nt reference items; e2: DIG_IO (ID 0 first), nt finishes, reply, hb.
+    assert taken[1] - taken[0] == nt and taken[2] - taken[1] == nt + 3, taken
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_drain(case) -> None:
+    SUITE.run(case)

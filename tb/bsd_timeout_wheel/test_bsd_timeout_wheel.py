@@ -1,0 +1,124 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of bsd_timeout_wheel, and their pytest entry.
+
+Checked against PROTOCOL.md §4.2 (a measurement times out 65 535 ticks after its start) and
+the block's header comment: on every tick, for every running timer, expire_o names it
+exactly when that tick brings T to T_start - 1 (T_start: T including the start clock's
+tick); never for a timer that finished and was started again (the restart race), whatever
+the clock of the restart relative to the scan. Ticks come every 3rd clock (2 MHz, the
+fewest clocks per tick the core allows), T is driven as bsd_timer_bank's count.
+"""
+
+from __future__ import annotations
+
+import pytest
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
+
+from clocked_tb import ClockedTB
+from runner import hdl_params
+from suite import Suite, on
+
+# t12: a scanner lap of 12 clocks, a multiple of the 3-clock tick period, so the same timers
+# meet the slot-clearing clock on every lap (an insert that lost the write port must wait).
+SUITE = Suite(__file__, "bsd_timeout_wheel", {"t4": {"NUM_TIMERS": 4}, "t12": {"NUM_TIMERS": 12}},
+              quick=on("verilator"))
+TIMEOUT = 65535
+
+
+class WheelTB(ClockedTB):
+    INPUTS = dict(tick_i=0, t_i=0, start_i=0, run_i=0)
+    OUTPUTS = ("expire_o",)
+
+    def __init__(self, dut) -> None:
+        super().__init__(dut, "wheel")
+        self.n = int(hdl_params()["NUM_TIMERS"])
+        self.t = 0
+        self.run = [False] * self.n
+        self.start_t = [0] * self.n
+        self.clock = 0
+        self.timeouts = 0
+        self.races = 0
+
+    async def clk1(self, start: int | None = None, finish: tuple[int, ...] = ()) -> None:
+        """One clock: a tick every 3rd, `start` (an idle timer) starts, `finish` complete."""
+        tick = int(self.clock % 3 == 0)
+        run = sum(1 << k for k in range(self.n) if self.run[k])
+        await FallingEdge(self.clk)
+        self.drive(0, tick_i=tick, t_i=self.t, start_i=(1 << start) if start is not None else 0, run_i=run)
+        await ReadOnly()
+        exp = int(self.dut.expire_o.value)
+        await RisingEdge(self.clk)
+        now = (self.t + tick) & 0xFFFF
+        for k in range(self.n):
+            if not self.run[k] or not tick:
+                continue
+            due = now == (self.start_t[k] - 1) & 0xFFFF
+            got = bool(exp >> k & 1)
+            assert got == due, (f"clock {self.clock}: timer {k} started at T={self.start_t[k]}, "
+                                f"tick to T={now}: expire {int(got)}, timeout due {int(due)}")
+            if due:
+                self.run[k] = False
+                self.timeouts += 1
+        for k in finish:
+            self.run[k] = False
+        if start is not None:
+            assert not self.run[start]
+            self.run[start] = True
+            self.start_t[start] = now
+        self.t = now
+        self.clock += 1
+
+
+@SUITE.test()
+async def test_timeouts_and_restarts(dut) -> None:
+    """Timers started at random clocks time out exactly on their 65 535th tick; others
+    complete early, some a few ticks before their timeout (inside the wheel's window, after
+    their insertion) and start again at once or a few clocks later: the new run never times
+    out at the old one's time."""
+    tb = WheelTB(dut)
+    await tb.reset()
+    rng, n = tb.rng, tb.n
+    # This run ends shortly before its timeout (timers 0 and 1 time out first).
+    early = {k: k >= 2 and rng.random() < 0.7 for k in range(n)}
+    cut = {k: rng.randrange(1, 60) for k in range(n)}
+    total = 3 * (TIMEOUT + 2000) * 2
+    next_start = [rng.randrange(0, 3000) for _ in range(n)]
+    for c in range(total):
+        start = None
+        finish = []
+        for k in range(n):
+            if tb.run[k]:
+                left = ((tb.start_t[k] - 1) - tb.t) & 0xFFFF
+                if early[k] and left == cut[k] and tb.clock % 3 == 1:
+                    finish.append(k)
+                    tb.races += 1
+                    next_start[k] = c + rng.choice([1, 2, 3, 5, 40])
+            elif start is None and c >= next_start[k]:
+                start = k
+                early[k] = rng.random() < 0.5
+                cut[k] = rng.randrange(1, 60)
+                next_start[k] = 1 << 40
+        # the exec starts at most one timer a clock, and a finished one only on a later clock
+        if start is not None and start in finish:
+            start = None
+        await tb.clk1(start, tuple(finish))
+    assert tb.timeouts >= 2 and tb.races >= 2, (tb.timeouts, tb.races)
+
+
+@SUITE.test()
+async def test_all_at_once(dut) -> None:
+    """Every timer started on consecutive clocks (so several share a tick): all of them
+    time out, each on its own tick, none early or late."""
+    tb = WheelTB(dut)
+    await tb.reset()
+    n = tb.n
+    for k in range(n):
+        await tb.clk1(k)
+    while any(tb.run):
+        await tb.clk1()
+    assert tb.timeouts == n
+
+
+@pytest.mark.parametrize("case", SUITE.cases())
+def test_bsd_timeout_wheel(case) -> None:
+    SUITE.run(case)
