@@ -40,7 +40,7 @@ MUTANTS = [
      "a restart after its slot was read expires at the previous run's timeout",
      "UNKNOWN"),  # the wheel's slots are RAM: from reset, only the induction step fails
     ("bsd_drain", "prove", "bsd_drain.v",
-     "dio_first = dio_q && (!any_t || dio_id_q < k_id);", "dio_first = dio_q;",
+     "dio_first = dio_q && !(|(rem & before_q));", "dio_first = dio_q;",
      "the DIG_IO value always goes first, even above a lower timer ID"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v",
      "last_q  <= pos_q == n_q;", "last_q  <= pos_q == n_q + 4'd1;",
