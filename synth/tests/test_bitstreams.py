@@ -42,13 +42,7 @@ def _missing(f: flow.Family) -> list[str]:
     return [t for t in _tools(f) if not (bindir / t).exists() and not shutil.which(t)]
 
 
-# The 24-timer board does not fit the UP5K while a timer costs ~150 LUT4s (docs/synthesis.md,
-# the targets): strict, so that the day it fits this marker fails and is removed.
-TOO_BIG = {"icebreaker24": "a timer on each of 24 pins needs more logic cells than the UP5K has"}
-
-
-@pytest.mark.parametrize("board", [pytest.param(b, marks=pytest.mark.xfail(reason=TOO_BIG[b], strict=True))
-                                   if b in TOO_BIG else b for b in flow.BOARDS])
+@pytest.mark.parametrize("board", list(flow.BOARDS))
 def test_bitstream(board: str) -> None:
     f = flow.BOARDS[board]
     missing = _missing(f)

@@ -4,15 +4,14 @@ binary, started and stopped here) or a board on a serial port."""
 
 from __future__ import annotations
 
-import importlib
 import subprocess
-import sys
 from pathlib import Path
 from typing import Optional
 
 import pytest
 
 from harness import TIMEOUT, Lines, make_built
+from host_import import import_host_library  # noqa: F401  (re-exported for the tests)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -65,17 +64,3 @@ class Target:
         return self.virtual
 
 
-def import_host_library():
-    """The host library `brainstem_dio` (host/, installed editable). tb/ is on sys.path (its
-    conftest's folder), and tb/brainstem_dio/ (the top's tests) would be taken for a namespace
-    package of that name: import it with tb/ out of the way."""
-    tb = (ROOT / "tb").resolve()
-    mod = sys.modules.get("brainstem_dio")
-    if mod is not None and getattr(mod, "__file__", None) is None:
-        del sys.modules["brainstem_dio"]
-    saved = sys.path[:]
-    sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != tb]
-    try:
-        return importlib.import_module("brainstem_dio")
-    finally:
-        sys.path[:] = saved

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from host_import import import_host_library
+
 ROOT = Path(__file__).resolve().parents[2]
 SEED = 16016  # fixed: a failure repeats (as far as the wall clock lets it); printed below
 
@@ -27,21 +29,9 @@ SEED = 16016  # fixed: a failure repeats (as far as the wall clock lets it); pri
 pytestmark = pytest.mark.xdist_group("virtual")
 
 
-def _import_host_library():
-    """The host library, not tb/brainstem_dio/ (the top's tests) should tb/ be on sys.path."""
-    tb = (ROOT / "tb").resolve()
-    mod = sys.modules.get("brainstem_dio")
-    if mod is not None and getattr(mod, "__file__", None) is None:
-        del sys.modules["brainstem_dio"]
-    saved = sys.path[:]
-    sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != tb]
-    try:
-        return importlib.import_module("brainstem_dio")
-    finally:
-        sys.path[:] = saved
 
 
-brainstem_dio = _import_host_library()
+brainstem_dio = import_host_library()
 _spec = importlib.util.spec_from_file_location("bsd_soak", ROOT / "sim" / "soak.py")
 soak = importlib.util.module_from_spec(_spec)
 sys.modules["bsd_soak"] = soak
