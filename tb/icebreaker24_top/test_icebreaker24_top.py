@@ -10,18 +10,15 @@ test`: at 9600 baud (the bitstream's build) on Verilator, at 115 200 baud on Ica
 
 from __future__ import annotations
 
-import cocotb
 import pytest
-from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, Timer
-from cocotbext.uart import UartSink, UartSource
 
-from board_top import Board
-from bsd_model import (CMD_DIG_CFG, CMD_DIG_IO, CMD_PTIME_RD, DEVCODE_HOST, DIGCFG_IODIR, DIGCFG_TMODE, Model,
-                       Params, packet, tick_tolerance, ticks_of)
+from board_top import Board, BoardLink
+from bsd_model import (CMD_DIG_CFG, CMD_DIG_IO, CMD_PTIME_RD, DEVCODE_HOST, DIGCFG_IODIR, DIGCFG_TMODE, Params,
+                       packet, tick_tolerance, ticks_of)
 from runner import hdl_params
 from suite import Suite
-from uart_line import LineMonitor, now_ps, quiet_uart_logs
+from uart_line import now_ps
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
               pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
@@ -42,40 +39,18 @@ async def test_board24_session(dut) -> None:
     hdl = hdl_params()
     clk_hz, baud = int(hdl["CLK_HZ"]), int(hdl["BAUD"])
     p = Params(clk_hz=clk_hz, num_pins=PINS, timer_mask=(1 << PINS) - 1, hb_rate=10)
-    period_ps = round(1e12 / clk_hz)
-    frame_ps = 10 * ((clk_hz + baud // 2) // baud) * period_ps
-    src, sink, mon = UartSource(dut.RX, baud=baud), UartSink(dut.TX, baud=baud), LineMonitor(dut.TX, baud)
-    quiet_uart_logs(dut.RX, dut.TX)
-    dut.BTN_N.value = 1
-    cocotb.start_soon(Clock(dut.CLK, period_ps, unit="ps", impl="gpi", period_high=period_ps // 2).start())
     pull_ups = (1 << PINS) - 1
-    model = Model(p, pull_ups)
+    link = BoardLink(dut, BOARD, p, baud, pull_ups)
+    model, sink, frame_ps = link.model, link.sink, link.frame_ps
     # The pad of the timed pin: PMOD 2, bit 7 (generate block g_pad[23].g_p2).
     header = dut.g_pad[TIMED_PIN].g_p2.u_io.ext
 
-    async def expect(want: bytes, what: str, within_ps: int = 0) -> None:
-        got = bytearray()
-        deadline = now_ps() + within_ps + (len(want) + 6) * frame_ps
-        while len(got) < len(want) and now_ps() < deadline:
-            await Timer(frame_ps, unit="ps")
-            got += sink.read_nowait(sink.count())
-        await Timer(3 * frame_ps, unit="ps")     # nothing more may follow
-        got += sink.read_nowait(sink.count())
-        assert bytes(got) == want, f"after {what}: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
-        assert not mon.errors, mon.errors[:3]
-
-    async def command(pkt: bytes) -> None:
-        exp = model.feed(pkt)
-        src.write_nowait(pkt)
-        await src.wait()
-        await expect(b"".join(exp.packets), pkt.hex(" "))
-
     await ClockCycles(dut.CLK, 2)
-    await expect(b"".join(model.reset(pull_ups).packets), "power-up")
-    await command(packet(p.module_addr, CMD_DIG_IO, READ_PIN))
+    await link.expect(model.reset(pull_ups).packets, "power-up")
+    await link.command(packet(p.module_addr, CMD_DIG_IO, READ_PIN))
     # Input, width mode, target level 0: the timer measures how long the pin stays low.
-    await command(packet(p.module_addr, CMD_DIG_CFG, TIMED_PIN, DIGCFG_IODIR | DIGCFG_TMODE))
-    await command(packet(p.module_addr, CMD_PTIME_RD, DEVCODE_HOST | TIMED_PIN))
+    await link.command(packet(p.module_addr, CMD_DIG_CFG, TIMED_PIN, DIGCFG_IODIR | DIGCFG_TMODE))
+    await link.command(packet(p.module_addr, CMD_PTIME_RD, DEVCODE_HOST | TIMED_PIN))
     assert model.timer_busy(TIMED_PIN)
     header.value = 0
     assert not model.set_pin(TIMED_PIN, 0)
@@ -96,7 +71,7 @@ async def test_board24_session(dut) -> None:
         f"pin {TIMED_PIN}: {result} ticks for a {PULSE_S * 1e3:g} ms pulse, expected {nominal}"
     want = b"".join(model.timer_complete(TIMED_PIN, result).packets)
     assert bytes(got) == want, f"timer result: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
-    await expect(b"", "the timer result")
+    await link.expect([], "the timer result")
     dut._log.info("pin %d (P2_10): %d ticks for a %g ms pulse; %.1f ms simulated", TIMED_PIN, result,
                   PULSE_S * 1e3, now_ps() / 1e9)
 

@@ -76,42 +76,52 @@ def _led(dut, board: Board, which: tuple[str, int]) -> bool:
     return bool(_bit(dut, which) ^ board.led_active_low)
 
 
+class BoardLink:
+    """A board top's serial port as the host sees it: the clock started, the reset button up,
+    cocotbext-uart on RX/TX, a strict line monitor, and the model the replies are checked
+    against."""
+
+    def __init__(self, dut, board: Board, p: Params, baud: int, pins: int) -> None:
+        period_ps = round(1e12 / p.clk_hz)
+        self.frame_ps = 10 * ((p.clk_hz + baud // 2) // baud) * period_ps
+        rx, tx = getattr(dut, board.rx), getattr(dut, board.tx)
+        getattr(dut, board.btn).value = 1
+        self.src, self.sink, self.mon = UartSource(rx, baud=baud), UartSink(tx, baud=baud), LineMonitor(tx, baud)
+        quiet_uart_logs(rx, tx)
+        cocotb.start_soon(Clock(getattr(dut, board.clk), period_ps, unit="ps", impl="gpi",
+                                period_high=period_ps // 2).start())
+        self.model = Model(p, pins)
+        dut._log.info("%s at %.3f MHz (clock period %d ps), %d baud", board.top, p.clk_hz / 1e6, period_ps, baud)
+
+    async def expect(self, exp: list[bytes], what: str, within_ps: int = 0) -> None:
+        """Exactly these packets from the board, then 3 frame times of silence."""
+        want = b"".join(exp)
+        got = bytearray()
+        deadline = now_ps() + within_ps + (len(want) + 6) * self.frame_ps
+        while len(got) < len(want) and now_ps() < deadline:
+            await Timer(self.frame_ps, unit="ps")
+            got += self.sink.read_nowait(self.sink.count())
+        await Timer(3 * self.frame_ps, unit="ps")     # nothing more may follow
+        got += self.sink.read_nowait(self.sink.count())
+        assert bytes(got) == want, f"after {what}: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
+        assert not self.mon.errors, self.mon.errors[:3]
+
+    async def command(self, pkt: bytes) -> None:
+        exp = self.model.feed(pkt)
+        self.src.write_nowait(pkt)
+        await self.src.wait()
+        await self.expect(exp.packets, pkt.hex(" "))
+
+
 async def session(dut, board: Board) -> None:
     hdl = hdl_params()
     clk_hz, baud, n = int(hdl["CLK_HZ"]), int(hdl["BAUD"]), int(hdl["NUM_PINS"])
     assert clk_hz == board.clk_hz, f"CLK_HZ {clk_hz} is not {board.top}'s board clock {board.clk_hz}"
     # The wrapper's defaults apart from the board's clock (HB_RATE 10: a heartbeat per 256 ms).
     p = Params(clk_hz=clk_hz, num_pins=n, hb_rate=10)
-    period_ps = round(1e12 / clk_hz)
-    frame_ps = 10 * ((clk_hz + baud // 2) // baud) * period_ps
-    dut._log.info("%s at %.3f MHz (clock period %d ps), %d baud", board.top, clk_hz / 1e6, period_ps, baud)
-
-    rx, tx = getattr(dut, board.rx), getattr(dut, board.tx)
-    getattr(dut, board.btn).value = 1
-    src, sink, mon = UartSource(rx, baud=baud), UartSink(tx, baud=baud), LineMonitor(tx, baud)
-    quiet_uart_logs(rx, tx)
-    cocotb.start_soon(Clock(getattr(dut, board.clk), period_ps, unit="ps", impl="gpi",
-                            period_high=period_ps // 2).start())
     pull_ups = (1 << n) - 1
-    model = Model(p, pull_ups)
-
-    async def expect(exp: list[bytes], what: str) -> None:
-        want = b"".join(exp)
-        got = bytearray()
-        deadline = now_ps() + (len(want) + 6) * frame_ps
-        while len(got) < len(want) and now_ps() < deadline:
-            await Timer(frame_ps, unit="ps")
-            got += sink.read_nowait(sink.count())
-        await Timer(3 * frame_ps, unit="ps")     # nothing more may follow
-        got += sink.read_nowait(sink.count())
-        assert bytes(got) == want, f"after {what}: expected {want.hex(' ')}, got {bytes(got).hex(' ')}"
-        assert not mon.errors, mon.errors[:3]
-
-    async def command(pkt: bytes) -> None:
-        exp = model.feed(pkt)
-        src.write_nowait(pkt)
-        await src.wait()
-        await expect(exp.packets, pkt.hex(" "))
+    link = BoardLink(dut, board, p, baud, pull_ups)
+    model, expect, command = link.model, link.expect, link.command
 
     # 1. power-up: no rst port; the top's reset releases the core after 16 clocks.
     await ClockCycles(getattr(dut, board.clk), 2)
@@ -133,4 +143,4 @@ async def session(dut, board: Board) -> None:
         assert _led(dut, board, board.led_act), "activity LED dark after traffic"
     assert not _led(dut, board, board.led_link), "link_up LED lit without a heartbeat answer"
     dut._log.info("%d bytes from the board, all as the model says; %.1f ms simulated",
-                  len(mon.data), now_ps() / 1e9)
+                  len(link.mon.data), now_ps() / 1e9)
