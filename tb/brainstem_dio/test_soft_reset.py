@@ -61,9 +61,10 @@ async def test_reset_forms(dut) -> None:
     tb, m = await setup(dut, pins=None)
     for n in range(1, 9):
         await dirty(tb, m)
-        exp = m.feed(reset_cmd(tb, n))
+        cmd = reset_cmd(tb, n)
+        exp = m.feed(cmd)
         assert exp.packets == m.reset().packets, "the model's cmdRESET answer is the power-up message"
-        await tb.source.send(reset_cmd(tb, n))
+        await tb.source.send(cmd)
         await tb.expect(exp, what=f"cmdRESET with N = {n}")
         tb.check_pins(m)
         for pin in P.pins:
@@ -122,8 +123,9 @@ async def test_reset_drops_what_waits(dut) -> None:
     await tb.command(m, packet(A, CMD_PTIME_RD, DEVCODE_HOST | DEVCODE_RFLX | run_pin))
     if int(dut.m_axis_tvalid.value) != 1:
         raise TBError("the finished result is not offered on m_axis")
-    exp = m.feed(reset_cmd(tb))          # the model forgets both measurements
-    await tb.source.send(reset_cmd(tb))
+    cmd = reset_cmd(tb)
+    exp = m.feed(cmd)                    # the model forgets both measurements
+    await tb.source.send(cmd)
     await tb.cycles(20)
     tb.sink.paused = False
     await tb.expect(exp, what="cmdRESET with a result waiting and a timer running")
@@ -151,7 +153,8 @@ async def test_reset_finishes_partial_packet(dut) -> None:
     for taken in range(6):
         tb.sink.budget = taken
         await finished_result(tb, m, pin, DEVCODE_HOST)
-        await tb.source.send(reset_cmd(tb))
+        cmd = reset_cmd(tb)
+        await tb.source.send(cmd)
         await tb.cycles(20)
         tb.sink.budget = None
         tb.sink.paused = False
@@ -163,7 +166,7 @@ async def test_reset_finishes_partial_packet(dut) -> None:
             value = d[4] << 8 | d[5]
             check_result(pin, value, 50e-6)
             exp.extend(m.timer_complete(pin, value))
-        exp.extend(m.feed(reset_cmd(tb)))
+        exp.extend(m.feed(cmd))
         await tb.expect(exp, what=f"cmdRESET with {taken} bytes of a result taken")
     tb.check_no_errors()
 
