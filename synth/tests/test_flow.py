@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""synth/flow.py tells a design nextpnr could not place (too big for the device, or stopped at
+"""synth/synth.py tells a design nextpnr could not place (too big for the device, or stopped at
 the time limit) from a failure of the flow: the first is a result for the report
 (`flow.Unplaced`, the logic cells it needs), the second stops the run (`flow.FlowError`). The
 tools are not run: nextpnr's exit and log are stood in for, as nextpnr-ice40 0.11 writes them.
@@ -17,7 +17,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import flow  # noqa: E402
+import synth as flow  # noqa: E402
 
 # The utilization nextpnr-ice40 prints before it gives up on a design too big for the UP5K.
 TOO_BIG = """Info: Device utilisation:
