@@ -175,12 +175,12 @@ virtual: $(VIRTUAL_BIN)
 # heartbeat on; its own build) with line noise: a quiet baseline, random calls at BER 1e-4 and
 # 1e-3 against a shadow model, then the noise off and a functional check; fails on a call past
 # its bound, an exception outside BrainStemError, a dead reader thread, a link not answering
-# within 2 s, or a failed check. -> the `soak` region of docs/benchmarks.md. A few minutes.
+# within 2 s, or a failed check. -> the report, printed and in sim/build/soak/report.md. A few minutes.
 # SOAK_ARGS: e.g. "--seed 7 --calls 500" (sim/soak.py --help).
 SOAK_ARGS ?=
 .PHONY: soak
 soak: $(STAMP)
-	@$(VPY) sim/soak.py --write docs/benchmarks.md $(SOAK_ARGS)
+	@$(VPY) sim/soak.py $(SOAK_ARGS)
 
 # Regenerate the protocol's constants from tools/protocol.toml (tools/gen_protocol.py lists
 # the files); protocol-check only reports stale ones (tb/protocol/test_protocol.py runs it too).
@@ -202,9 +202,9 @@ BOARD ?= icebreaker
 BOARDS := icebreaker icebreaker24 ulx3s tangnano9k
 check_board = $(if $(filter $(BOARD),$(BOARDS)),,$(error BOARD=$(BOARD): one of $(BOARDS)))
 
-# yosys + nextpnr per design of BOARD's FPGA family and seed -> synth/build/<design>/seed<N>.json,
-# then the generated regions of docs/synthesis.md (several minutes per board). SYNTH_ARGS: e.g.
-# "--only core5 --seeds 1" (one design, doc left alone) or "--report-only".
+# yosys + nextpnr per design of BOARD's FPGA family and seed -> synth/build/<design>/result.json,
+# then the report (printed, and synth/build/report.md, synthesis-scaling.svg); several minutes per
+# board. SYNTH_ARGS: e.g. "--only core5 --seeds 1" (one design) or "--report-only".
 SYNTH_ARGS ?=
 synth: $(SYNTH_STAMP)
 	$(call check_board)

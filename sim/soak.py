@@ -1,47 +1,25 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""A noise soak: the host library (host/, `brainstem_dio`) against the virtual module
-(sim/virtual.cpp) on a serial line that flips bits.
+"""A noise soak: the host library (host/) against the virtual module (sim/virtual.cpp, 2 MHz,
+115200 baud, HB_RATE 10) on a serial line that flips bits (`ber P` on the module's stdin).
 
-Phases, each with its own virtual module line noise (`ber P` on its standard input):
+1. a quiet baseline; 2. random calls at each BER (default 1e-4, 1e-3) checked against a shadow
+model (configure, query, write, read, time_pin on pulse trains on pins 3 and 4, echo, pipelined
+`wait=False` writes), every outcome and each call's duration against its timeout counted (a
+failed call's effect is unknown: the shadow forgets it until a query or read tells it again);
+3. noise off, then a functional check: the link answering within 2 s, time_pin on the trains,
+every configuration of every pin read back, both timer modes, the timer timeout, pipelined
+writes (pads in the transcript), the heartbeat's link_up, no stray packet.
 
-1. a quiet baseline;
-2. random calls at BER 1e-4, then at 1e-3 (by default), each checked against a shadow
-   model of the module (what each pin's configuration and output latch should be, what an
-   input reads, how long a pulse on a timer pin is): configure, query, write, read (inputs
-   and outputs, so cmdIndexErr comes too), time_pin on pins 3 and 4 while pulse trains run
-   on their pads (`pin N pulse ...` on the module's stdin), echo, and bursts of pipelined
-   `wait=False` writes. Every outcome is counted: ok (the value or the module error the shadow
-   predicts), a wrong value, each exception class (module errors by name and code), and each
-   call's duration against its timeout. What a call did when it failed is unknown, so the
-   shadow forgets it until a query or read tells it again;
-3. noise off (`ber 0`), and a full functional check: the link answering within 2 s; time_pin
-   on the pulse trains, first, while whatever the noise left in the library is still there (a
-   result there mostly arrives before its start's confirmation, so a lost start must not make
-   the next measurement's result go astray); every configuration of every pin written and read
-   back, both timer modes on pulses sent after the start's confirmation, the module's timer
-   timeout, pipelined `wait=False` writes (their pads in the module's transcript), the
-   heartbeat's link_up back up, and no stray packet.
-
-It passes (exit 0) when no call outlasted its bound (its timeout, plus the module's timeout
-for the sync a library call sends first after a Timeout, plus 0.5 s of scheduling), no call
-raised an exception outside `BrainStemError`, the library's reader thread is alive after
-each phase, the link answered within 2 s after the noise stopped, and every check after it
-passed. A wrong value under noise is counted, not a failure: the protocol has no checksum,
-so a flipped data bit that keeps the framing is a valid packet saying something else.
-Otherwise it exits 1 and says which criterion failed.
+Exit 0 when no call outlasted its bound (its timeout + the sync after a Timeout + 0.5 s), no
+call raised outside `BrainStemError`, the reader thread lived through each phase, the link
+answered within 2 s after the noise and every check passed; else 1, naming the criterion. A
+wrong value under noise is counted, not a failure (the protocol has no checksum). `--seed`
+seeds the calls and the noise. The report is printed and written to sim/build/soak/report.md
+(with the date, seed and command); the module's transcript beside it.
 
     .venv/bin/python sim/soak.py                         # make soak: the full run
-    .venv/bin/python sim/soak.py --calls 300 --bers 1e-3 --baseline 50
-    .venv/bin/python sim/soak.py --seed 7 --write docs/benchmarks.md
-
-The virtual module is `make virtual`'s build at 2 MHz, 115200 baud, HB_RATE 10 (the build the
-tests use: it keeps real time on a loaded 2-core machine; `--baud 9600` for a real module's
-rate, where every packet takes 12 times as long on the line); `--seed` seeds both the calls and
-the line noise, so a run repeats as far as the wall clock lets it (the noise is the same bits;
-which call they hit depends on timing). `--write FILE` fills FILE's region
-`<!-- generated:soak begin -->` .. `end` (tools/docregions.py) with the table, the date, the
-seed and the command.
+    .venv/bin/python sim/soak.py --calls 300 --bers 1e-3 --baseline 50 --seed 7
 """
 
 from __future__ import annotations
@@ -64,14 +42,11 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
 import brainstem_dio
 from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError
-from docregions import RegionError, fill, fill_file
 from harness import Lines, make_built
 
-REGION = "soak"
 BAUD = 115200
 
 
@@ -745,8 +720,6 @@ def main(argv: list[str] | None = None) -> int:
                     help="the noisy phases' bit error rates (default 1e-4 1e-3)")
     ap.add_argument("--baud", type=int, default=BAUD, choices=[9600, 19200, 38400, 57600, 115200],
                     help=f"the virtual module's line rate (default {BAUD})")
-    ap.add_argument("--write", type=Path, metavar="FILE",
-                    help=f"fill the region `generated:{REGION}` of FILE with the table")
     args = ap.parse_args(argv)
     if args.baseline < 0 or args.calls < 1:
         ap.error("--baseline must be 0 or more and --calls 1 or more")
@@ -755,12 +728,6 @@ def main(argv: list[str] | None = None) -> int:
             ap.error(f"--bers: {b:g} is not a bit error rate above 0 and at most 1")
     if args.seed is not None and not 0 <= args.seed < 2**64:
         ap.error("--seed: 0 to 2^64-1")
-    if args.write is not None:  # a missing marker fails now, not after the run
-        try:
-            fill(args.write.read_text(encoding="utf-8"), {REGION: ""}, where=str(args.write))
-        except (OSError, RegionError) as e:
-            print(f"sim/soak.py: error: {e}", file=sys.stderr)
-            return 1
     seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
     date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     try:
@@ -769,14 +736,11 @@ def main(argv: list[str] | None = None) -> int:
     except (SoakError, AssertionError, subprocess.CalledProcessError, OSError) as e:
         print(f"sim/soak.py: error: the soak could not run: {e}", file=sys.stderr)
         return 1
-    text = report(res)
+    cmd = shlex.join(["sim/soak.py", *argv] + ([] if args.seed is not None else ["--seed", str(seed)]))
+    text = (f"_Measured {date} by `{cmd}` (seed {seed}; the virtual module at 2 MHz, {args.baud} baud, "
+            f"HB_RATE 10; the library's default timeout, {CALL_TIMEOUT} s)._\n\n{report(res)}")
     print(text)
-    if args.write is not None:
-        cmd = shlex.join(["sim/soak.py", *argv] + ([] if args.seed is not None else ["--seed", str(seed)]))
-        body = (f"_Measured {date} by `{cmd}` (seed {seed}; the virtual module at 2 MHz, {args.baud} baud, "
-                f"HB_RATE 10; the library's default timeout, {CALL_TIMEOUT} s)._\n\n{text}")
-        changed = fill_file(args.write, {REGION: body})
-        print(f"{'wrote' if changed else 'unchanged:'} {args.write} ({REGION})", file=sys.stderr)
+    (TRANSCRIPT.parent / "report.md").write_text(text + "\n", encoding="utf-8")
     if res.failures:
         print("sim/soak.py: FAIL: " + "; ".join(res.failures), file=sys.stderr)
         return 1
