@@ -108,13 +108,7 @@ def test_a_line_is_missed_only_when_no_point_on_it_ran() -> None:
     assert [w for w, _ in lm.missed] == ["line 21", "line 22"]
 
 
-WAIVERS = """
-[[waiver]]
-module = "m"
-kind = "toggle"
-signal = "q[0]"
-reason = "q[0] is  constant\\nafter reset"
-"""
+WAIVERS = 'waiver = [["m", "toggle", "q[0]", "q[0] is  constant\\nafter reset"]]\n'
 
 
 def test_a_named_exception_passes_a_module_below_target() -> None:
@@ -129,20 +123,20 @@ def test_a_named_exception_passes_a_module_below_target() -> None:
 
 
 def test_a_waiver_that_matches_nothing_is_stale() -> None:
-    waivers = parse_waivers(WAIVERS + '[[waiver]]\nmodule = "m"\nkind = "line"\nline = 10\nreason = "r"\n')
+    waivers = parse_waivers(WAIVERS.replace("]]", '], ["m", "line", "10", "r"], ["m", "branch", "11 if", "r"]]'))
     reports = module_reports(merge([parse_dat(RUN_A), parse_dat(RUN_B)]), waivers)
     stale = stale_waivers(reports, waivers)
-    assert [(w.kind, w.lines) for w in stale] == [("line", (10,))]   # line 10 ran
+    assert [(w.kind, w.lines) for w in stale] == [("line", (10,)), ("branch", (11,))]   # line 10, the if ran
     assert not overall(reports, TARGETS, stale)
 
 
 @pytest.mark.parametrize("text,message", [
-    ('[[waiver]]\nmodule = "m"\nkind = "line"\nline = 3\n', "`reason`"),
-    ('[[waiver]]\nmodule = "m"\nkind = "fsm"\nline = 3\nreason = "r"\n', "not one of"),
-    ('[[waiver]]\nmodule = "m"\nkind = "toggle"\nline = 3\nreason = "r"\n', "signal"),
-    ('[[waiver]]\nmodule = "m"\nkind = "line"\nreason = "r"\n', "`line` or `lines`"),
-    ('[[waiver]]\nmodule = "m"\nkind = "line"\nline = 3\nreason = "r"\nwhy = 1\n', "unknown keys"),
-    ("[[waiver]\n", "waivers"),
+    ('waiver = [["m", "line", "3"]]', "four non-empty strings"),
+    ('waiver = [["m", "fsm", "3", "r"]]', "not one of"),
+    ('waiver = [["m", "line", "q[0]", "r"]]', "names lines"),
+    ('waiver = [["m", "line", "3 else", "r"]]', "names lines"),
+    ('waiver = []\nwhy = 1', "unknown keys"),
+    ("waiver = [", "waivers"),
 ])
 def test_bad_waivers_are_refused(text: str, message: str) -> None:
     with pytest.raises(UsageError, match=message):
@@ -164,7 +158,7 @@ def test_no_data_is_an_error(tmp_path: Path, capsys: pytest.CaptureFixture[str])
 
 def test_report_from_files(tmp_path: Path) -> None:
     """The whole report path over two data files: exit 1 below target, 0 with the waiver,
-    the merged file and the HTML written."""
+    the merged file and the annotated source written."""
     (tmp_path / "dat").mkdir()
     (tmp_path / "dat" / "a.dat").write_text(RUN_A)
     (tmp_path / "dat" / "b.dat").write_text(RUN_B)
@@ -173,8 +167,9 @@ def test_report_from_files(tmp_path: Path) -> None:
     assert coverage.main(base + ["--waivers", str(tmp_path / "none.toml")]) == 1
     assert coverage.main(base + ["--waivers", str(tmp_path / "w.toml")]) == 0
     assert len(parse_dat((tmp_path / "o" / "merged.dat").read_text())) == 6
-    page = (tmp_path / "o" / "html" / "m.html").read_text()
-    assert "q[0]:1-&gt;0" in page and "q[0] is constant after reset" in page
+    assert "q[0] is constant after reset" in (tmp_path / "o" / "summary.md").read_text()
+    src = (ROOT / "rtl" / "m.v").is_file()   # rtl/m.v does not exist: an empty annotation
+    assert (tmp_path / "o" / "src" / "m.v.txt").read_text() == "" and not src
 
 
 def test_toggle_patterns_take_brackets_literally() -> None:
@@ -187,3 +182,14 @@ def test_toggle_misses_are_listed_by_signal() -> None:
     items = [f"`d[{i}]:0->1`" for i in range(6)] + [f"`d[{i}]:1->0`" for i in range(6)]
     items += ["`q:1->0`", "`r[2]:0->1`", "`r[2]:1->0`"]
     assert coverage._compact(items) == "`d` (6 bits), `q (1->0)`, `r[2]`"
+
+
+def test_annotated_source_marks_uncovered_and_waived_lines(tmp_path: Path) -> None:
+    pts = parse_dat(dat(rec("rtl/bsd_sync.v", 3, 1, "line", "block", 4, "3"),
+                        rec("rtl/bsd_sync.v", 4, 1, "line", "block", 0, "4"),
+                        rec("rtl/bsd_sync.v", 5, 1, "line", "block", 0, "5")))
+    reports = module_reports(pts, parse_waivers('waiver = [["bsd_sync", "line", "5", "r"]]'))
+    coverage.write_sources(reports, tmp_path)
+    lines = (tmp_path / "bsd_sync.v.txt").read_text().splitlines()
+    assert lines[2].startswith("         4     3 ") and lines[3].startswith("!        0     4 ")
+    assert lines[4].startswith("~        0     5 ") and lines[0].startswith(" " * 15 + "1 ")
