@@ -257,13 +257,13 @@ test-time: $(STAMP)
 
 # make coverage: Verilator line, toggle and branch coverage of rtl/ over the regression's
 # Verilator cases (deep ones too), coverage builds in their own folders (`...-cov`), one data
-# file per run, merged -> sim_build/coverage/ (merged.dat, html/index.html) and the `code`
-# region of docs/coverage.md (tools/coverage.py; exceptions in tools/coverage_waivers.toml).
+# file per run, merged -> sim_build/coverage/ (merged.dat, summary.md, fcov.md, src/: annotated
+# sources; tools/coverage.py, exceptions in tools/coverage_waivers.toml).
 # Fails when a module is below target without a named exception. COVERAGE_ARGS: e.g. --no-run.
 COVERAGE_ARGS ?=
 .PHONY: coverage
 coverage: $(STAMP)
-	@$(WITH_VERILATOR) $(VPY) tools/coverage.py --write --jobs $(JOBS) $(COVERAGE_ARGS)
+	@$(WITH_VERILATOR) $(VPY) tools/coverage.py --jobs $(JOBS) $(COVERAGE_ARGS)
 
 # The test plan: checks docs/testplan.md's hand-written table against the tests, proofs, bins,
 # the contract's sections and its messages (make test runs it through tb/repo/test_testplan.py).

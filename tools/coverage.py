@@ -9,7 +9,7 @@ line % (source lines with a block or branch point, covered when any point on it 
 branch % and toggle % (each bit's 0->1 and 1->0), checked against the targets and the named
 exceptions of tools/coverage_waivers.toml: a module below a target passes only when every
 point it leaves uncovered is named, and a waiver that names no uncovered point is an error.
-Writes sim_build/coverage/: merged.dat, summary.md (printed too) and src/<module>.v.txt
+Writes sim_build/coverage/: merged.dat, summary.md (printed too), fcov.md, src/<module>.v.txt
 (each source line with its count, `!` where uncovered, `~` where waived).
 
     .venv/bin/python tools/coverage.py            # what make coverage runs
@@ -320,7 +320,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print("coverage: the regression failed; the figures below are incomplete", file=sys.stderr)
             status = 1
         if fcov.is_dir() and subprocess.run([sys.executable, str(ROOT / "tools" / "fcov_report.py"), "--in", str(fcov),
-                                             "--check"], cwd=ROOT, check=False).returncode:
+                                             "--check", "--md", str(args.out / "fcov.md")], cwd=ROOT, check=False).returncode:
             print("coverage: tools/fcov_report.py --check failed", file=sys.stderr)
             status = 1
         files = sorted(args.dat.glob("*.dat"))

@@ -8,7 +8,7 @@ and how many of the reachable ones were hit, then the unhit reachable bins.
 
     tools/fcov_report.py --in DIR                 # print the table
     tools/fcov_report.py --in DIR --check         # exit 1 if a reachable bin is unhit
-    tools/fcov_report.py --in DIR --write         # fill docs/coverage.md's region `functional`
+    tools/fcov_report.py --in DIR --md FILE       # also write the table to FILE (make coverage)
 
 Exit status: 0 fine; 1 --check failed (a reachable bin unhit, or a bin the list calls
 unreachable was hit); 2 bad arguments or input.
@@ -32,12 +32,9 @@ sys.path.insert(0, str(ROOT / "host"))
 sys.path.insert(0, str(ROOT / "tb" / "lib"))
 sys.path.insert(0, str(ROOT / "tools"))
 
-from docregions import RegionError, fill_file
 from fcov import COVERPOINTS, FORMAT, Axes, Bin, all_bins, bin_key
 
 DEFAULT_RULES = ROOT / "tools" / "fcov_unreachable.toml"
-DEFAULT_DOC = ROOT / "docs" / "coverage.md"
-REGION = "functional"
 
 
 class InputError(Exception):
@@ -58,13 +55,8 @@ class Rule:
         return not (self.unless and all(values[a] in vs for a, vs in self.unless.items()))
 
     def describe(self) -> str:
-        def fmt(d: Mapping[str, frozenset[str]]) -> str:
-            return ", ".join(f"{a}={'/'.join(sorted(vs))}" for a, vs in d.items())
-
-        text = fmt(self.match)
-        if self.unless:
-            text += f" unless {fmt(self.unless)}"
-        return text
+        return " unless ".join(", ".join(f"{a}={'/'.join(sorted(vs))}" for a, vs in d.items())
+                               for d in (self.match, self.unless) if d)
 
 
 @dataclass
@@ -235,19 +227,10 @@ def render(summary: Sequence[PointSummary], runs: Runs, max_unhit: int = 200) ->
         lines.append(f"| {s.name} | {' × '.join(s.axes)} | {s.bins} | {len(s.unreachable)} | "
                      f"{s.reachable} | {s.reachable_hit}{pct} | {len(s.unhit)} |")
     lines += ["", "Unreachable by construction (tools/fcov_unreachable.toml):", ""]
-    any_rule = False
-    for s in summary:
-        for r, n in s.rule_counts:
-            any_rule = True
-            lines.append(f"- {s.name}: {r.describe()} ({n} bins): {r.reason}")
-    if not any_rule:
-        lines.append("- none")
+    lines += [f"- {s.name}: {r.describe()} ({n} bins): {r.reason}" for s in summary for r, n in s.rule_counts] or ["- none"]
     lines += ["", "Reachable bins not hit:", ""]
     unhit = [(s, b) for s in summary for b in s.unhit]
-    if not unhit:
-        lines.append("- none")
-    for s, b in unhit[:max_unhit]:
-        lines.append(f"- {s.name}: {', '.join(f'{a}={v}' for a, v in zip(s.axes, b))}")
+    lines += [f"- {s.name}: {', '.join(f'{a}={v}' for a, v in zip(s.axes, b))}" for s, b in unhit[:max_unhit]] or ["- none"]
     if len(unhit) > max_unhit:
         lines.append(f"- … and {len(unhit) - max_unhit} more")
     wrong = [(s, b) for s in summary for b in s.unreachable_hit]
@@ -266,10 +249,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     help="the folder $BSD_FCOV_DIR pointed at")
     ap.add_argument("--unreachable", type=Path, default=DEFAULT_RULES, metavar="TOML",
                     help=f"the unreachable-bin list (default {DEFAULT_RULES.relative_to(ROOT)})")
-    ap.add_argument("--write", action="store_true",
-                    help=f"fill the region `{REGION}` of the document (--doc)")
-    ap.add_argument("--doc", type=Path, default=DEFAULT_DOC, metavar="MD",
-                    help=f"the document --write fills (default {DEFAULT_DOC.relative_to(ROOT)})")
+    ap.add_argument("--md", type=Path, metavar="FILE", help="also write the table to FILE")
     ap.add_argument("--check", action="store_true",
                     help="exit 1 if a reachable bin is unhit or an unreachable one was hit")
     args = ap.parse_args(argv)
@@ -282,13 +262,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     summary = summarize(runs, rules)
     text = render(summary, runs)
     sys.stdout.write(text)
-    if args.write:
+    if args.md:
         try:
-            changed = fill_file(args.doc, {REGION: text})
-        except (OSError, RegionError) as e:
+            args.md.write_text(text, encoding="utf-8")
+        except OSError as e:
             print(f"fcov_report: error: {e}", file=sys.stderr)
             return 2
-        print(f"{args.doc}: {'updated' if changed else 'unchanged'}", file=sys.stderr)
     if args.check and failed(summary):
         n = sum(len(s.unhit) for s in summary)
         m = sum(len(s.unreachable_hit) for s in summary)

@@ -141,13 +141,10 @@ def test_main_exit_status_table_and_write(tmp_path, capsys):
     assert "| latch | trg × event | 6 | 2 | 4 | 4 (100 %) | 0 |" in out
     assert "latch: event=race (2 bins): not sampled" in out
     assert "Merged from 2 simulator runs (2 tests" in out
-    # --write fills only the region.
-    md = tmp_path / "coverage.md"
-    md.write_text("# Coverage\nmine\n<!-- generated:functional begin -->\nold\n<!-- generated:functional end -->\ntail\n")
-    assert rep.main(["--in", str(indir), "--unreachable", str(rules_path), "--write", "--doc", str(md)]) == 0
-    text = md.read_text()
-    assert text.startswith("# Coverage\nmine\n") and text.endswith("<!-- generated:functional end -->\ntail\n")
-    assert "old" not in text and "| latch | trg × event |" in text
+    # --md writes the same table to a file.
+    md = tmp_path / "fcov.md"
+    assert rep.main(["--in", str(indir), "--unreachable", str(rules_path), "--md", str(md)]) == 0
+    assert md.read_text() == out
     # One reachable bin fewer: --check fails, and names it.
     rest["latch"].popitem()
     write(indir, "b-2.json", doc(rest, "b"))
@@ -167,7 +164,7 @@ def test_main_bad_input_exits_2(tmp_path, capsys):
     (empty / "y.json").write_text("{not json")
     assert rep.main(["--in", str(empty)]) == 2
     (empty / "y.json").unlink()
-    assert rep.main(["--in", str(empty), "--write", "--doc", str(tmp_path / "missing.md")]) == 2
+    assert rep.main(["--in", str(empty), "--md", str(tmp_path / "no" / "such" / "f.md")]) == 2
     assert "error" in capsys.readouterr().err
     with pytest.raises(SystemExit) as e:
         rep.main([])
