@@ -559,24 +559,21 @@ class Checks:
 # ---------------------------------------------------------------- the report
 
 def table(phases: list[Phase]) -> str:
-    rows = [OK, WRONG] + sorted({o for p in phases for o in p.outcomes} - {OK, WRONG})
-    head = "| | " + " | ".join(f"{p.name}" for p in phases) + " |"
-    out = [head, "|---|" + "---:|" * len(phases)]
-    out.append("| calls | " + " | ".join(str(p.calls) for p in phases) + " |")
-    for r in rows:
-        out.append(f"| {r} | " + " | ".join(str(p.outcomes.get(r, 0)) for p in phases) + " |")
+    def row(name: str, cell: Callable[[Phase], object]) -> str:
+        return f"| {name} | " + " | ".join(str(cell(p)) for p in phases) + " |"
+    kinds = [OK, WRONG] + sorted({o for p in phases for o in p.outcomes} - {OK, WRONG})
     ops = sorted({o for p in phases for o in p.by_op})
-    for op in ops:
-        out.append(f"| {op}: ok / calls | " + " | ".join(
-            f"{p.by_op[op][OK]} / {sum(p.by_op[op].values())}" if op in p.by_op else "-" for p in phases) + " |")
-    out.append("| slowest call / its timeout | " + " | ".join(
-        f"{p.slowest[1]:.3f} s = {p.slowest[0]:.2f} x ({p.slowest[2]})" for p in phases) + " |")
-    out.append("| bits flipped host → module | " + " | ".join(f"{p.flips[0]} of {p.flips[1]}" for p in phases) + " |")
-    out.append("| bits flipped module → host | " + " | ".join(f"{p.flips[2]} of {p.flips[3]}" for p in phases) + " |")
-    for k in ("framing errors", "resyncs", "resync timeouts", "unsolicited"):
-        out.append(f"| library: {k} | " + " | ".join(str(p.link.get(k, 0)) for p in phases) + " |")
-    out.append("| wall time | " + " | ".join(f"{p.seconds:.1f} s" for p in phases) + " |")
-    return "\n".join(out)
+    return "\n".join([
+        "| | " + " | ".join(p.name for p in phases) + " |", "|---|" + "---:|" * len(phases),
+        row("calls", lambda p: p.calls), *(row(k, lambda p, k=k: p.outcomes.get(k, 0)) for k in kinds),
+        *(row(f"{op}: ok / calls", lambda p, op=op: f"{p.by_op[op][OK]} / {sum(p.by_op[op].values())}"
+              if op in p.by_op else "-") for op in ops),
+        row("slowest call / its timeout", lambda p: f"{p.slowest[1]:.3f} s = {p.slowest[0]:.2f} x ({p.slowest[2]})"),
+        row("bits flipped host → module", lambda p: f"{p.flips[0]} of {p.flips[1]}"),
+        row("bits flipped module → host", lambda p: f"{p.flips[2]} of {p.flips[3]}"),
+        *(row(f"library: {k}", lambda p, k=k: p.link.get(k, 0))
+          for k in ("framing errors", "resyncs", "resync timeouts", "unsolicited")),
+        row("wall time", lambda p: f"{p.seconds:.1f} s")])
 
 
 @dataclass
@@ -593,56 +590,32 @@ class Result:
 def criteria(phases: list[Phase], recovered: float | None, checks: list[tuple[str, str | None]]) -> list[str]:
     failures = []
     for p in phases:
-        for s in p.over_bound[:5]:
-            failures.append(f"{p.name}: a call past its bound: {s}")
-        for s in p.foreign[:5]:
-            failures.append(f"{p.name}: an exception outside BrainStemError: {s}")
-        if not p.reader_alive:
-            failures.append(f"{p.name}: the library's reader thread is dead")
-    if recovered is None:
-        failures.append("the link did not answer within 2 s after the noise stopped")
-    for name, why in checks:
-        if why is not None:
-            failures.append(f"check failed: {name}: {why}")
-    return failures
+        failures += [f"{p.name}: a call past its bound: {s}" for s in p.over_bound[:5]]
+        failures += [f"{p.name}: an exception outside BrainStemError: {s}" for s in p.foreign[:5]]
+        failures += [f"{p.name}: the library's reader thread is dead"] * (not p.reader_alive)
+    failures += ["the link did not answer within 2 s after the noise stopped"] * (recovered is None)
+    return failures + [f"check failed: {name}: {why}" for name, why in checks if why is not None]
 
 
 def report(res: Result) -> str:
-    lines = [table(res.phases), ""]
     rec = "never (within 2 s)" if res.recovered is None else f"{res.recovered:.3f} s"
-    lines.append(f"After the noise: the link answered in {rec}; the functional check:")
-    lines.append("")
-    for name, why in res.checks:
-        lines.append(f"- {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
-    for r in res.retried:
-        lines.append(f"- run again, having failed while the module was behind real time: {r}")
-    first = {}
+    lines = [table(res.phases), "", f"After the noise: the link answered in {rec}; the functional check:", ""]
+    lines += [f"- {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}") for name, why in res.checks]
+    lines += [f"- run again, having failed while the module was behind real time: {r}" for r in res.retried]
+    first: dict[str, str] = {}
     for p in res.phases:
         for k, msg in p.first.items():
             first.setdefault(k, f"{p.name}: {msg}")
     if first:
-        lines.append("")
-        lines.append("Each kind of exception, its first occurrence:")
-        lines.append("")
-        for k in sorted(first):
-            lines.append(f"- {k}: {first[k]}")
-    wrong = [(p.name, w) for p in res.phases for w in p.wrong]
+        lines += ["", "Each kind of exception, its first occurrence:", "", *(f"- {k}: {first[k]}" for k in sorted(first))]
+    wrong = [f"- {p.name}: {w}" for p in res.phases for w in p.wrong]
     if wrong:
-        lines.append("")
-        lines.append(f"Wrong values ({len(wrong)}; counted, not failures), the first ones:")
-        lines.append("")
-        for name, w in wrong[:8]:
-            lines.append(f"- {name}: {w}")
+        lines += ["", f"Wrong values ({len(wrong)}; counted, not failures), the first ones:", "", *wrong[:8]]
     if res.behind:
-        lines.append("")
-        lines.append(f"The virtual module fell behind real time {len(res.behind)} times (a busy machine): "
-                     + "; ".join(b.removeprefix("behind real time: ") for b in res.behind[:6])
-                     + ("; ..." if len(res.behind) > 6 else ""))
-    lines.append("")
-    lines.append("Result: " + ("PASS" if not res.failures else "FAIL"))
-    for f in res.failures:
-        lines.append(f"- {f}")
-    return "\n".join(lines)
+        lines += ["", f"The virtual module fell behind real time {len(res.behind)} times (a busy machine): "
+                  + "; ".join(b.removeprefix("behind real time: ") for b in res.behind[:6])
+                  + ("; ..." if len(res.behind) > 6 else "")]
+    return "\n".join([*lines, "", "Result: " + ("FAIL" if res.failures else "PASS"), *(f"- {f}" for f in res.failures)])
 
 
 # ---------------------------------------------------------------- the run
@@ -721,13 +694,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--baud", type=int, default=BAUD, choices=[9600, 19200, 38400, 57600, 115200],
                     help=f"the virtual module's line rate (default {BAUD})")
     args = ap.parse_args(argv)
-    if args.baseline < 0 or args.calls < 1:
-        ap.error("--baseline must be 0 or more and --calls 1 or more")
-    for b in args.bers:
-        if not 0 < b <= 1:
-            ap.error(f"--bers: {b:g} is not a bit error rate above 0 and at most 1")
-    if args.seed is not None and not 0 <= args.seed < 2**64:
-        ap.error("--seed: 0 to 2^64-1")
+    if args.baseline < 0 or args.calls < 1 or not all(0 < b <= 1 for b in args.bers) or not 0 <= (args.seed or 0) < 2**64:
+        ap.error("--baseline 0 or more, --calls 1 or more, --bers above 0 and at most 1, --seed 0 to 2^64-1")
     seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
     date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     try:
