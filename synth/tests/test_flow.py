@@ -35,7 +35,7 @@ def _fake_nextpnr(monkeypatch, tmp_path: Path, log: str | None, late: bool = Fal
     """A design whose nextpnr run fails (writing `log`) or runs past its time limit."""
     monkeypatch.setattr(flow, "tool", lambda name: name)
 
-    def run(cmd, cwd, stdout=None, stderr=None, text=None, timeout=None):
+    def run(cmd, cwd, stdout=None, stderr=None, text=None, timeout=None, check=None):
         if late:
             raise subprocess.TimeoutExpired(cmd, timeout)
         (cwd / cmd[cmd.index("-l") + 1]).write_text(log)
@@ -63,3 +63,35 @@ def test_a_seed_past_the_time_limit_is_unplaced(monkeypatch, tmp_path) -> None:
     d = _fake_nextpnr(monkeypatch, tmp_path, None, late=True)
     with pytest.raises(flow.Unplaced, match=rf"seed 1\): stopped after {d.timeout} s"):
         flow._nextpnr(tmp_path, d, 1)
+
+
+def _result(name: str, lut4: int, ff: int, fmax: list[float] = (), lcs: int = 0, unplaced: str | None = None) -> dict:
+    d = flow.design(name)
+    return {"design": name, "pins": d.pins, "timers": d.timers, "cells": {"lut4": lut4, "ff": ff, "carry": 0, "ram": 2},
+            "seeds": [{"seed": i + 1, "fmax": f, "lcs": lcs, "lcs_available": 5280} for i, f in enumerate(fmax)],
+            "unplaced": unplaced, "date": "2026-12-02 13:07 UTC"}
+
+
+def test_the_report_computes_slopes_targets_and_the_fit() -> None:
+    r = {n: _result(n, lut, ff) for n, lut, ff in (("core5", 600, 500), ("core16", 820, 610), ("core64", 1780, 1100),
+                                                    ("core16t", 1180, 800), ("core64t", 3280, 2300))}
+    r["icebreaker"] = _result("icebreaker", 900, 700, [61.0, 58.0, 65.0], 1500)
+    r["uart64t"] = _result("uart64t", 4700, 2500, unplaced="does not fit: 6280 ICESTORM_LC of the 5280 available (119 %)")
+    text = flow.report(r)
+    assert "| core5 → core16 | 20.0 | 10.0 |" in text          # (820 - 600) / (16 - 5) pins
+    assert "| core16 → core16t | 30.0 | 15.8 |" in text         # (1180 - 820) / (16 - 4) timers
+    assert "| LUT4 per step core5 → core16 | ≤ 14 | 20.0 | **missed** |" in text
+    assert "| LUT4 per step core64 → core64t | ≤ 30 | 25.0 | met |" in text
+    assert "| core5 LUT4 | ≤ 700 | 600 | met |" in text
+    assert "| icebreaker median Fmax (MHz) | ≥ 60 | 61.0 | met |" in text
+    assert "| icebreaker worst Fmax (MHz) | ≥ 55 | 58.0 | met |" in text
+    assert "| icebreaker | ice40 | 900 | 700 | 0 | 2 | 1500 | 61.0 / 58.0 / 65.0 | 61.0 / 58.0 |" in text
+    assert "| uart64t placed, % of logic cells | ≤ 75 | does not fit: 6280 ICESTORM_LC" in text
+    assert text.count("**missed**") == 3 and "| LUT4 per step core16 → core64 | ≤ 14 | 20.0 | **missed** |" in text
+    assert "| core64 | ice40 |" in text and "| ulx3s | ecp5 | — |" in text
+
+
+def test_the_rtl_list_is_the_core_files() -> None:
+    files = flow.rtl_files()
+    assert "rtl/brainstem_dio.v" in files and "rtl/brainstem_dio_uart.v" in files and "rtl/bsd_protocol.vh" in files
+    assert all((flow.ROOT / f).is_file() for f in files)
