@@ -48,20 +48,14 @@ from brainstem_dio import BrainStemError, CmdIndexErr, DigCfg, ModuleError
 from harness import Lines, make_built
 
 BAUD = 115200
-
-
-def make_vars(baud: int) -> list[str]:
-    return ["CLK_HZ=2000000", f"BAUD={baud}", "HB_RATE=10"]
 A = 2
 NUM_PINS = 5
 TIMER_PINS = (1, 2, 3, 4)  # TIMER_MASK 30
 TICK_S = 1.6e-6
 TIMER_TIMEOUT_S = 65535 * TICK_S
-# The pulse trains: on pins 3 and 4, low pulses (the pads rest high, the board's pull-ups) of
-# these widths, one each every 360 us; time_pin measures them in width mode, target low. So a
-# measurement usually ends before the module's echo confirms its start to the host (about
-# 0.4 ms at 115 200 baud): the case where a result must not go to an older, lost
-# measurement's wait. (The functional check times pulses sent after the confirmation too.)
+# Low pulses on pins 3 and 4 (the pads rest high) every 360 us, timed in width mode: a result
+# usually comes before the module confirms the start (about 0.4 ms at 115 200 baud), the case
+# where it must not go to an older, lost measurement's wait.
 PULSE_US = {3: 100, 4: 160}  # 62.5 and 100 ticks
 TRAIN_PERIOD_S = 360e-6
 TRAIN = ["pin 3 pulse 100us", "wait 50us", "pin 4 pulse 160us", "wait 50us"]
@@ -69,45 +63,55 @@ TICK_SLACK = 2  # ±1 tick of phase, plus the synchronizer's few clocks
 CALL_TIMEOUT = 0.5  # the library's default
 GRACE_S = 0.5
 STATS = re.compile(r"^stats: ber (\S+): rx (\d+) of (\d+) bits flipped, tx (\d+) of (\d+) bits flipped$")
+TRANSCRIPT = ROOT / "sim" / "build" / "soak" / "transcript.txt"
+OK, WRONG = "ok", "wrong value"
 
 
 class SoakError(Exception):
     """The soak itself could not run (not a failed criterion)."""
 
 
-# ---------------------------------------------------------------- the virtual module
-
 class Virtual:
-    """The virtual module: its stdin, its transcript, its pty, its noise counts."""
+    """The virtual module (its stdin, transcript, pty and noise counts) and the pulse trains
+    queued on its stdin; stdin lines run in order, so `until` is when the last train ends."""
 
     def __init__(self, binary: Path, link: Path, seed: int) -> None:
         self.proc = subprocess.Popen([str(binary), "--link", str(link), "--seed", str(seed)], cwd=ROOT,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-        self.out = Lines(self.proc.stdout)
-        self.err = Lines(self.proc.stderr)
+        self.out, self.err = Lines(self.proc.stdout), Lines(self.proc.stderr)
         self.port = self.out.lines[self.out.wait(r"^port: ")].split(": ", 1)[1]
         self.seed_line = self.out.lines[self.out.wait(r"^line noise: ")]
         self.lock = threading.Lock()
+        self.until = 0.0
 
     def send(self, *lines: str) -> None:
-        assert self.proc.stdin is not None
         with self.lock:
             self.proc.stdin.write("".join(f"{line}\n" for line in lines).encode())
             self.proc.stdin.flush()
 
-    def set_ber(self, ber: float) -> int:
-        """`ber P`; returns the transcript index of the line that says it took effect."""
+    def ask(self, line: str, pattern: str) -> str:
         mark = len(self.out)
-        self.send(f"ber {ber:g}")
-        return self.out.wait(rf"\] ber {re.escape(f'{ber:g}')} +line noise", mark, timeout=60)
+        self.send(line)
+        return self.out.lines[self.out.wait(pattern, mark, timeout=60)]
 
     def stats(self) -> tuple[int, int, int, int]:
         """(rx flips, rx bits, tx flips, tx bits) so far."""
-        mark = len(self.out)
-        self.send("stats")
-        m = STATS.match(self.out.lines[self.out.wait(STATS.pattern, mark, timeout=60)])
-        assert m is not None
+        m = STATS.match(self.ask("stats", STATS.pattern))
         return int(m[2]), int(m[3]), int(m[4]), int(m[5])
+
+    def cover(self, seconds: float) -> None:
+        """Pulse trains for at least `seconds` from now."""
+        now = time.monotonic()
+        if self.until < now + seconds:
+            reps = int(2 * seconds / TRAIN_PERIOD_S)
+            self.send(*(TRAIN * reps))
+            self.until = max(self.until, now) + reps * TRAIN_PERIOD_S
+
+    def trains_running(self) -> bool:
+        return time.monotonic() < self.until + 0.2  # the module may lag the wall clock a little
+
+    def trains_wait_out(self) -> None:
+        time.sleep(max(0.0, self.until + 0.1 - time.monotonic()))
 
     def stop(self) -> None:
         if self.proc.poll() is None:
@@ -118,34 +122,6 @@ class Virtual:
                 self.proc.kill()
                 self.proc.wait()
 
-
-class Trains:
-    """Pulse trains on pins 3 and 4, queued on the module's stdin ahead of the calls that
-    measure them. Stdin lines run in order, so a `ber` or `stats` line waits behind them:
-    `until` is when the last one queued ends (wall clock, a little generous)."""
-
-    def __init__(self, v: Virtual) -> None:
-        self.v = v
-        self.until = 0.0
-
-    def cover(self, seconds: float) -> None:
-        now = time.monotonic()
-        if self.until >= now + seconds:
-            return
-        reps = int(2 * seconds / TRAIN_PERIOD_S)
-        self.v.send(*(TRAIN * reps))
-        self.until = max(self.until, now) + reps * TRAIN_PERIOD_S
-
-    def running(self) -> bool:
-        return time.monotonic() < self.until + 0.2  # the module may lag the wall clock a little
-
-    def wait_out(self) -> None:
-        left = self.until + 0.1 - time.monotonic()
-        if left > 0:
-            time.sleep(left)
-
-
-# ---------------------------------------------------------------- outcomes
 
 @dataclass
 class Phase:
@@ -168,51 +144,33 @@ class Phase:
         return sum(self.outcomes.values())
 
 
-WRONG = "wrong value"
-OK = "ok"
-
-
-def outcome_of(e: BaseException) -> str:
-    if isinstance(e, ModuleError):
-        return f"{type(e).__name__} ({e.code})"
-    return type(e).__name__
-
-
 class Caller:
     """Runs one library call, times it against its bound and counts its outcome in `phase`."""
 
     def __init__(self, phase: Phase) -> None:
         self.phase = phase
 
-    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], str | None],
-                 *, timeout: float = CALL_TIMEOUT, expect: type | None = None,
-                 either: type | None = None) -> tuple[str, Any]:
-        """`check(result)` returns None when the result is what the shadow predicts, else the
-        difference; `expect` is the module error the shadow predicts instead of a result;
-        `either`, a module error as good as a result (the shadow does not know)."""
-        ph = self.phase
-        t0 = time.monotonic()
-        result: Any = None
+    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], str | None], *,
+                 timeout: float = CALL_TIMEOUT, expect: type | None = None, either: type | None = None) -> tuple[str, Any]:
+        """`check(result)`: None when the result is what the shadow predicts, else the
+        difference; `expect`: the module error predicted instead; `either`: a module error as
+        good as a result (the shadow does not know)."""
+        ph, t0 = self.phase, time.monotonic()
         try:
             result = fn()
         except BrainStemError as e:
             result = e
-            predicted = expect or either
-            outcome = OK if predicted is not None and isinstance(e, predicted) else outcome_of(e)
+            outcome = OK if isinstance(e, expect or either or ()) else (
+                f"{type(e).__name__} ({e.code})" if isinstance(e, ModuleError) else type(e).__name__)
         except Exception as e:  # noqa: BLE001 - that is what this counts
-            result = e
-            outcome = f"foreign {type(e).__name__}"
+            result, outcome = e, f"foreign {type(e).__name__}"
             ph.foreign.append(f"{op}: {type(e).__name__}: {e}")
         else:
-            if expect is not None:
-                outcome, diff = WRONG, f"no {expect.__name__}"
-            else:
-                diff = check(result)
-                outcome = OK if diff is None else WRONG
-            if outcome == WRONG:
+            diff = f"no {expect.__name__}" if expect is not None else check(result)
+            outcome = OK if diff is None else WRONG
+            if diff is not None:
                 ph.wrong.append(f"{op}: {diff}")
-        took = time.monotonic() - t0
-        bound = timeout + CALL_TIMEOUT + GRACE_S
+        took, bound = time.monotonic() - t0, timeout + CALL_TIMEOUT + GRACE_S
         if took > bound:
             ph.over_bound.append(f"{op}: {took:.3f} s (bound {bound:.3f} s)")
         if took / timeout > ph.slowest[0]:
@@ -224,101 +182,74 @@ class Caller:
         return outcome, result
 
 
-# ---------------------------------------------------------------- the shadow and the random calls
-
-@dataclass
-class Pin:
-    cfg: int | None = 0x01  # DIGCFG bits 4:0, None = unknown
-    latch: int | None = 0  # the output latch
-
-
 class Soak:
-    def __init__(self, m: brainstem_dio.Module, v: Virtual, rng: random.Random) -> None:
-        self.m = m
-        self.v = v
-        self.rng = rng
-        self.pins = [Pin() for _ in range(NUM_PINS)]
-        self.trains = Trains(v)
-        self.framing: list[str] = []  # the library's framing errors: when, why, what it dropped
+    """The shadow (each pin's DIGCFG and output latch, None when unknown) and the random calls."""
 
-        def listen(e: Any) -> None:
-            if e.kind == "framing":
-                self.framing.append(f"{e.time:.3f}: {e.note} ({bytes(e.raw or b'').hex(' ')})")
-        m.link.add_listener(listen)
+    OPS = (("configure", 14), ("query", 14), ("write", 12), ("read", 14), ("time_pin", 12),
+           ("echo", 14), ("no_timer", 4), ("pipelined", 8))
+
+    def __init__(self, m: brainstem_dio.Module, v: Virtual, rng: random.Random) -> None:
+        self.m, self.v, self.rng = m, v, rng
+        self.cfg: list[int | None] = [0x01] * NUM_PINS
+        self.latch: list[int | None] = [0] * NUM_PINS
+        self.framing: list[str] = []  # the library's framing errors: when, why, what it dropped
+        m.link.add_listener(lambda e: self.framing.append(f"{e.time:.3f}: {e.note} ({bytes(e.raw or b'').hex(' ')})")
+                            if e.kind == "framing" else None)
 
     def output(self, pin: int) -> bool | None:
-        cfg = self.pins[pin].cfg
-        return None if cfg is None else not cfg & 0x01
-
-    def level(self, pin: int) -> int | None:
-        """What an input reads: high (the pull-ups), either while a train runs on it."""
-        if pin in PULSE_US and self.trains.running():
-            return None
-        return 1
-
-    # Each op: one or more calls through `call`.
-    def op_configure(self, call: Caller) -> None:
-        pin = self.rng.randrange(NUM_PINS)
-        cfg = self.rng.randrange(32) | (0x01 if self.rng.random() < 0.6 else 0)
-        self._configure(call, pin, cfg)
+        return None if self.cfg[pin] is None else not self.cfg[pin] & 0x01
 
     def _configure(self, call: Caller, pin: int, cfg: int) -> bool:
         outcome, _ = call(f"configure pin {pin} 0x{cfg:02X}", lambda: self.m.configure(pin, cfg), lambda r: None)
-        self.pins[pin].cfg = cfg if outcome == OK else None
+        self.cfg[pin] = cfg if outcome == OK else None
         return outcome == OK
+
+    def op_configure(self, call: Caller) -> None:
+        self._configure(call, self.rng.randrange(NUM_PINS), self.rng.randrange(32) | (self.rng.random() < 0.6))
 
     def op_query(self, call: Caller) -> None:
         pin = self.rng.randrange(NUM_PINS)
-        want = self.pins[pin].cfg
-
-        def check(r: DigCfg) -> str | None:
-            return None if want is None or int(r) == want else f"pin {pin} config 0x{int(r):02X}, not 0x{want:02X}"
-        outcome, r = call(f"query pin {pin}", lambda: self.m.query(pin), check)
+        want = self.cfg[pin]
+        outcome, r = call(f"query pin {pin}", lambda: self.m.query(pin), lambda r: None if want is None or int(r) == want
+                          else f"pin {pin} config 0x{int(r):02X}, not 0x{want:02X}")
         if isinstance(r, DigCfg):
-            self.pins[pin].cfg = int(r) & 0x1F  # what the module says, right or not, from now on
+            self.cfg[pin] = int(r) & 0x1F  # what the module says, right or not, from now on
         elif outcome != OK:
-            self.pins[pin].cfg = None
+            self.cfg[pin] = None
 
     def op_write(self, call: Caller) -> None:
-        pin = self.rng.randrange(NUM_PINS)
+        pin, value = self.rng.randrange(NUM_PINS), self.rng.randrange(2)
         out = self.output(pin)
-        value = self.rng.randrange(2)
         outcome, _ = call(f"write pin {pin} {value}", lambda: self.m.write(pin, value), lambda r: None,
                           expect=CmdIndexErr if out is False else None, either=CmdIndexErr if out is None else None)
         if out and outcome == OK:
-            self.pins[pin].latch = value
+            self.latch[pin] = value
         elif out is None or outcome != OK:
-            self.pins[pin].latch = None
+            self.latch[pin] = None
 
     def op_read(self, call: Caller) -> None:
         pin = self.rng.randrange(NUM_PINS)
         out = self.output(pin)
-        want = self.level(pin)
+        want = None if pin in PULSE_US and self.v.trains_running() else 1   # the pull-ups, or a train
 
         def check(r: int) -> str | None:
             if r not in (0, 1):
                 return f"pin {pin} read {r}"
-            if out is None or want is None or r == want:
-                return None
-            return f"pin {pin} read {r}, not {want}"
+            return None if out is None or want is None or r == want else f"pin {pin} read {r}, not {want}"
         call(f"read pin {pin}", lambda: self.m.read(pin), check, expect=CmdIndexErr if out else None,
              either=CmdIndexErr if out is None else None)
 
     def op_time_pin(self, call: Caller) -> None:
         pin = self.rng.choice(sorted(PULSE_US))
-        if not self._configure(call, pin, 0x11):  # input, width timer of a low pulse
-            return
-        self.trains.cover(1.0)
-        want = PULSE_US[pin] * 1e-6 / TICK_S
-
-        def check(r: brainstem_dio.TimerResult) -> str | None:
-            return None if abs(r.ticks - want) <= TICK_SLACK else f"pin {pin} timer {r.ticks} ticks, not {want:g}"
-        call(f"time_pin pin {pin}", lambda: self.m.time_pin(pin), check, timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
+        if self._configure(call, pin, 0x11):  # input, width timer of a low pulse
+            self.v.cover(1.0)
+            want = PULSE_US[pin] * 1e-6 / TICK_S
+            call(f"time_pin pin {pin}", lambda: self.m.time_pin(pin), lambda r: None if abs(r.ticks - want) <= TICK_SLACK
+                 else f"pin {pin} timer {r.ticks} ticks, not {want:g}", timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
 
     def op_echo(self, call: Caller) -> None:
         data = bytes(self.rng.randrange(256) for _ in range(self.rng.randrange(8)))
-        call(f"echo {data.hex()}", lambda: self.m.echo(data),
-             lambda r: None if r == data else f"echo {r.hex()}, not {data.hex()}")
+        call(f"echo {data.hex()}", lambda: self.m.echo(data), lambda r: None if r == data else f"echo {r.hex()}, not {data.hex()}")
 
     def op_no_timer(self, call: Caller) -> None:
         call("time_pin pin 0", lambda: self.m.time_pin(0), lambda r: None, expect=CmdIndexErr,
@@ -329,34 +260,23 @@ class Soak:
         if not self.output(pin) and not self._configure(call, pin, 0x00):
             return
         values = [self.rng.randrange(2) for _ in range(self.rng.randrange(3, 9))]
-        pendings: list[Any] = []
+        pendings = []
         for value in values:
             outcome, p = call(f"write(wait=False) pin {pin} {value}", lambda v=value: self.m.write(pin, v, wait=False),
                               lambda r: None)
             pendings.append(p if outcome == OK else None)
-        good = True
+        good = all(p is not None for p in pendings)
         for value, p in zip(values, pendings):
-            if p is None:
-                good = False
-                continue
-            outcome, _ = call(f"Pending.result pin {pin} {value}", p.result, lambda r: None)
-            good = good and outcome == OK
-        self.pins[pin].latch = values[-1] if good else None
-
-    OPS = (("op_configure", 14), ("op_query", 14), ("op_write", 12), ("op_read", 14), ("op_time_pin", 12),
-           ("op_echo", 14), ("op_no_timer", 4), ("op_pipelined", 8))
+            if p is not None:
+                good = call(f"Pending.result pin {pin} {value}", p.result, lambda r: None)[0] == OK and good
+        self.latch[pin] = values[-1] if good else None
 
     def random_calls(self, phase: Phase, calls: int) -> None:
-        call = Caller(phase)
-        names = [n for n, _ in self.OPS]
-        weights = [w for _, w in self.OPS]
-        t0 = time.monotonic()
+        call, t0 = Caller(phase), time.monotonic()
         while phase.calls < calls:
-            getattr(self, self.rng.choices(names, weights)[0])(call)
+            getattr(self, "op_" + self.rng.choices([n for n, _ in self.OPS], [w for _, w in self.OPS])[0])(call)
         phase.seconds = time.monotonic() - t0
 
-
-# ---------------------------------------------------------------- after the noise
 
 def reader_alive() -> bool:
     return any(t.name == "brainstem_dio-reader" and t.is_alive() for t in threading.enumerate())
@@ -383,23 +303,18 @@ class Checks:
     """The functional check once the noise is off: each check's name and its failure, if any."""
 
     def __init__(self, soak: Soak) -> None:
-        self.s = soak
-        self.m = soak.m
-        self.v = soak.v
+        self.s, self.m, self.v = soak, soak.m, soak.v
         self.results: list[tuple[str, str | None]] = []
         self.retried: list[str] = []  # checks run again: the module had fallen behind real time
-        self.excused_framing = 0
-        self.excused_unsolicited = 0
+        self.excused_framing = self.excused_unsolicited = 0
 
     def check(self, name: str, fn: Callable[[], str | None]) -> None:
-        """Run a check. One that fails after the library dropped a partial packet for its
-        inter-byte timeout while the virtual module fell behind real time or stalled (its
-        stderr says so, at most a second later) runs once more, and the report says so: a
-        simulation descheduled for over 0.1 s in the middle of a packet is, to the library, a
-        byte lost on the line, which no real module does. Other failures stand."""
+        """Run a check; one that failed after the library dropped a partial packet for its
+        inter-byte timeout while the virtual module fell behind real time or stalled (its stderr
+        says so, at most a second later) runs once more, and the report says so: to the library
+        a simulation descheduled for 0.1 s mid-packet is a lost byte, which no real module does."""
         for attempt in (1, 2):
-            lag0 = len(self.v.err)
-            seen0 = len(self.s.framing)
+            lag0, seen0 = len(self.v.err), len(self.s.framing)
             framing0, unsolicited0 = self.m.link.stats.framing_errors, self.m.link.stats.unsolicited
             try:
                 why = fn()
@@ -407,13 +322,10 @@ class Checks:
                 why = f"{type(e).__name__}: {e}"
             except Exception as e:  # noqa: BLE001 - reported as the check's failure
                 why = f"foreign {type(e).__name__}: {e}"
-            if why is None or attempt == 2:
-                break
-            if not any(": timeout (" in f for f in self.s.framing[seen0:]):
+            if why is None or attempt == 2 or not any(": timeout (" in f for f in self.s.framing[seen0:]):
                 break
             time.sleep(1.1)
-            behind = self.v.err.find(r"^behind real time", lag0)
-            if not behind:
+            if not (behind := self.v.err.find(r"^behind real time", lag0)):
                 break
             self.retried.append(f"{name}: {why} (the module: {behind[0]})")
             self.excused_framing += self.m.link.stats.framing_errors - framing0
@@ -426,8 +338,7 @@ class Checks:
         for pin in range(NUM_PINS):
             for cfg in range(32):
                 self.m.configure(pin, cfg)
-                got = int(self.m.query(pin))
-                if got != cfg:
+                if (got := int(self.m.query(pin))) != cfg:
                     bad.append(f"pin {pin}: wrote 0x{cfg:02X}, read 0x{got:02X}")
             self.m.configure(pin)
         return "; ".join(bad[:5]) or None
@@ -437,30 +348,24 @@ class Checks:
         for pin in TIMER_PINS:
             self.m.configure(pin, timer_width=True, timer_high=False)
             handle = self.m.start_timer(pin)
-            assert handle is not None
             self.v.send(f"pin {pin} pulse 800us")  # after the start is confirmed: 500 ticks
-            r = handle.result()
-            if abs(r.ticks - 500) > TICK_SLACK:
+            if abs((r := handle.result()).ticks - 500) > TICK_SLACK:
                 bad.append(f"pin {pin}: {r.ticks} ticks for an 800 us pulse")
             self.m.configure(pin)
         return "; ".join(bad) or None
 
     def edge_timer(self) -> str | None:
-        pin = 3
-        self.m.configure(pin, timer_high=False)  # edge timer to low
+        self.m.configure(3, timer_high=False)  # edge timer to low
         t0 = time.monotonic()
-        handle = self.m.start_timer(pin)
-        assert handle is not None
-        self.v.send("wait 20ms", f"pin {pin} low")
-        r = handle.result(2.0)
-        took = time.monotonic() - t0
-        self.v.send(f"pin {pin} high")
-        self.m.configure(pin)
-        # 20 ms of simulated time after the confirmed start, and not more than the wall clock
-        # (plus the 0.1 s a lagging module may catch up by).
-        if r.seconds is None or not 0.020 <= r.seconds <= took + 0.1:
-            return f"edge timer: {r} after a 20 ms wait ({took:.3f} s of wall time)"
-        return None
+        handle = self.m.start_timer(3)
+        self.v.send("wait 20ms", "pin 3 low")
+        r, took = handle.result(2.0), time.monotonic() - t0
+        self.v.send("pin 3 high")
+        self.m.configure(3)
+        # 20 ms of simulated time after the confirmed start, not more than the wall clock (plus
+        # the 0.1 s a lagging module may catch up by).
+        ok = r.seconds is not None and 0.020 <= r.seconds <= took + 0.1
+        return None if ok else f"edge timer: {r} after a 20 ms wait ({took:.3f} s of wall time)"
 
     def timer_timeout(self) -> str | None:
         self.m.configure(2, timer_high=False)  # edge to low; pin 2's pad stays high
@@ -469,30 +374,26 @@ class Checks:
         return None if r.timed_out and r.ticks == 0 else f"timer timeout: {r}"
 
     def time_pin_on_trains(self) -> str | None:
-        """time_pin while the trains run (a result may come before the start's confirmation)."""
         bad = []
         for pin, us in PULSE_US.items():
             self.m.configure(pin, timer_width=True, timer_high=False)
-            self.s.trains.cover(1.0)
-            want = us * 1e-6 / TICK_S
+            self.v.cover(1.0)
             for _ in range(5):
                 try:
                     r = self.m.time_pin(pin)
                 except BrainStemError as e:
                     bad.append(f"pin {pin}: {type(e).__name__}")
                     continue
-                if abs(r.ticks - want) > TICK_SLACK:
-                    bad.append(f"pin {pin}: {r.ticks} ticks, not {want:g}")
+                if abs(r.ticks - us * 1e-6 / TICK_S) > TICK_SLACK:
+                    bad.append(f"pin {pin}: {r.ticks} ticks, not {us * 1e-6 / TICK_S:g}")
             self.m.configure(pin)
-        self.s.trains.wait_out()
+        self.v.trains_wait_out()
         return "; ".join(bad) or None
 
     def pipelined_writes(self) -> str | None:
-        pins = (0, 1, 2)
-        mark = len(self.v.out)  # from inputs: becoming an output is a pad line too
+        pins, mark, last = (0, 1, 2), len(self.v.out), {}  # from inputs: becoming an output is a pad line too
         for pin in pins:
             self.m.configure(pin, output=True)
-        last = {}
         pendings = []
         for i in range(24):
             pin, value = pins[i % 3], (i // 3) % 2 ^ (i % 2)
@@ -512,37 +413,21 @@ class Checks:
         return "; ".join(bad) or None
 
     def heartbeat_link_up(self) -> str | None:
-        answers = self.m.link.stats.heartbeat_answers
-        pattern = r"\* link_up [01] "
-        mark = len(self.v.out)
-        before = self.v.out.find(pattern)
-        last = before[-1] if before else "none"
+        answers, pattern, mark = self.m.link.stats.heartbeat_answers, r"\* link_up [01] ", len(self.v.out)
+        last = (self.v.out.find(pattern) or ["none"])[-1]
         deadline = time.monotonic() + 3.0  # HB_RATE 10: a heartbeat every 256 ms
         while time.monotonic() < deadline:
-            after = self.v.out.find(pattern, mark)
-            last = after[-1] if after else last
+            last = (self.v.out.find(pattern, mark) or [last])[-1]
             # Two answers since the noise went, and the module's link_up says so.
             if self.m.link.stats.heartbeat_answers >= answers + 2 and "link_up 1" in last:
                 return None
             time.sleep(0.05)
-        return (f"heartbeats answered {self.m.link.stats.heartbeat_answers - answers} in 3 s; "
-                f"last link_up line: {last}")
+        return f"heartbeats answered {self.m.link.stats.heartbeat_answers - answers} in 3 s; last link_up line: {last}"
 
     def run(self) -> None:
-        framing0 = self.m.link.stats.framing_errors
-        seen0 = len(self.s.framing)
+        framing0, seen0 = self.m.link.stats.framing_errors, len(self.s.framing)
         self.m.drain()  # what the noise left in the queue
         unsolicited0 = self.m.link.stats.unsolicited
-        # First, while whatever the noise left in the library is still there: a measurement
-        # whose start was lost must not take the result of the next one on its pin.
-        self.check("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
-                   "before the start's confirmation)", self.time_pin_on_trains)
-        self.check("every pin's configuration written and read back (5 x 32)", self.every_configuration)
-        self.check("width timer on pins 1-4 (800 us pulse = 500 ticks)", self.width_timers)
-        self.check("edge timer on pin 3 (20 ms)", self.edge_timer)
-        self.check("the module's timer timeout on pin 2 (result 0)", self.timer_timeout)
-        self.check("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes)
-        self.check("the heartbeat's link_up back up", self.heartbeat_link_up)
 
         def no_strays() -> str | None:
             self.m.sync()
@@ -553,10 +438,19 @@ class Checks:
                 return (f"{unsolicited} unsolicited packets ({', '.join(str(p) for p in stray[:4])}), "
                         f"{framing} framing errors ({'; '.join(self.s.framing[seen0:][:4])})")
             return None
-        self.check("no stray packet, no framing error during the checks", no_strays)
+        # First, while what the noise left in the library is there: a measurement whose start
+        # was lost must not take the result of the next one on its pin.
+        for name, fn in ((("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
+                           "before the start's confirmation)"), self.time_pin_on_trains),
+                         ("every pin's configuration written and read back (5 x 32)", self.every_configuration),
+                         ("width timer on pins 1-4 (800 us pulse = 500 ticks)", self.width_timers),
+                         ("edge timer on pin 3 (20 ms)", self.edge_timer),
+                         ("the module's timer timeout on pin 2 (result 0)", self.timer_timeout),
+                         ("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes),
+                         ("the heartbeat's link_up back up", self.heartbeat_link_up),
+                         ("no stray packet, no framing error during the checks", no_strays)):
+            self.check(name, fn)
 
-
-# ---------------------------------------------------------------- the report
 
 def table(phases: list[Phase]) -> str:
     def row(name: str, cell: Callable[[Phase], object]) -> str:
@@ -618,15 +512,10 @@ def report(res: Result) -> str:
     return "\n".join([*lines, "", "Result: " + ("FAIL" if res.failures else "PASS"), *(f"- {f}" for f in res.failures)])
 
 
-# ---------------------------------------------------------------- the run
-
-TRANSCRIPT = ROOT / "sim" / "build" / "soak" / "transcript.txt"
-
-
 def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None],
              transcript: Path | None = TRANSCRIPT, baud: int = BAUD) -> Result:
     """The whole soak; the virtual module's transcript (stdout and stderr) goes to `transcript`."""
-    binary = make_built("virtual-build", "virtual-path", make_vars(baud))
+    binary = make_built("virtual-build", "virtual-path", ["CLK_HZ=2000000", f"BAUD={baud}", "HB_RATE=10"])
     with tempfile.TemporaryDirectory(prefix="bsd-soak-") as tmp:
         v = Virtual(binary, Path(tmp) / "port", seed)
         try:
@@ -641,28 +530,23 @@ def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Ca
 
 def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None]) -> Result:
     log(f"soak: seed {seed}; virtual module: {v.seed_line}")
-    rng = random.Random(seed)
     m = brainstem_dio.open(v.port, A, timeout=CALL_TIMEOUT)
     try:
         m.sync()
-        soak = Soak(m, v, rng)
-        phases = []
+        soak, phases = Soak(m, v, random.Random(seed)), []
         for name, ber, n in [("quiet", 0.0, baseline)] + [(f"BER {b:g}", b, calls) for b in bers]:
-            soak.trains.wait_out()
-            v.set_ber(ber)
-            flips0 = v.stats()
-            link0 = link_counts(m)
-            phase = Phase(name, ber)
+            v.trains_wait_out()
+            v.ask(f"ber {ber:g}", rf"\] ber {re.escape(f'{ber:g}')} +line noise")
+            flips0, link0, phase = v.stats(), link_counts(m), Phase(name, ber)
             soak.random_calls(phase, n)
-            soak.trains.wait_out()
-            now = v.stats()
-            phase.flips = (now[0] - flips0[0], now[1] - flips0[1], now[2] - flips0[2], now[3] - flips0[3])
+            v.trains_wait_out()
+            phase.flips = tuple(a - b for a, b in zip(v.stats(), flips0))
             phase.link = {k: val - link0[k] for k, val in link_counts(m).items()}
             phase.reader_alive = reader_alive()
             phases.append(phase)
             log(f"soak: {name}: {phase.calls} calls in {phase.seconds:.1f} s: "
                 + ", ".join(f"{k} {c}" for k, c in phase.outcomes.most_common()))
-        v.set_ber(0)
+        v.ask("ber 0", r"\] ber 0 +line noise")
         recovered = answering_after(m, time.monotonic())
         for pin in range(NUM_PINS):  # what the noise left: every pin an input again
             try:
@@ -675,17 +559,15 @@ def _run(v: Virtual, *, seed: int, baseline: int, calls: int, bers: list[float],
             log(f"soak: check {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
         if not reader_alive():
             checks.results.append(("the library's reader thread alive after the checks", "dead"))
-        failures = criteria(phases, recovered, checks.results)
-        return Result(phases, recovered, checks.results, failures, seed, checks.retried,
-                      v.err.find(r"^behind real time"))
+        return Result(phases, recovered, checks.results, criteria(phases, recovered, checks.results), seed,
+                      checks.retried, v.err.find(r"^behind real time"))
     finally:
         m.close()
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
-    ap = argparse.ArgumentParser(prog="sim/soak.py", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(prog="sim/soak.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seed", type=int, default=None, help="seed of the calls and the noise (default: random, printed)")
     ap.add_argument("--baseline", type=int, default=300, help="calls of the quiet baseline (default 300)")
     ap.add_argument("--calls", type=int, default=2000, help="calls per noisy phase (default 2000)")
