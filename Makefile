@@ -116,15 +116,15 @@ $(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
 bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 
 # Speed of each simulator, Callgrind's instructions per clock (GP 1.0 with its breakdown, and
-# 64 pins x 64 timers), and the virtual
-# module's ratio to real time (sim/virtual_bench.py: 2/12/48 MHz x 9600/115200 baud) -> the
-# generated regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-callgrind";
+# 64 pins x 64 timers), and the virtual module's ratio to real time (sim/virtual_bench.py:
+# 2/12/48 MHz x 9600/115200 baud): printed, and kept in sim/build/bench.{md,json} and
+# sim/build/virtual_bench.{md,json}. BENCH_ARGS: e.g. "--no-callgrind";
 # VIRTUAL_BENCH_ARGS: e.g. "--seconds 1".
 BENCH_ARGS ?=
 VIRTUAL_BENCH_ARGS ?=
 bench: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 	@$(WITH_VERILATOR) $(VPY) sim/bench.py $(BENCH_ARGS)
-	@$(WITH_VERILATOR) $(VPY) sim/virtual_bench.py --write docs/benchmarks.md $(VIRTUAL_BENCH_ARGS)
+	@$(WITH_VERILATOR) $(VPY) sim/virtual_bench.py $(VIRTUAL_BENCH_ARGS)
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
