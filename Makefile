@@ -136,7 +136,7 @@ sim: $(SIM_BIN)
 # The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
 # CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
 # sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
-# simulates only about 4-5 M clocks of this top per CPU second (sim/virtual_bench.py), so
+# simulates only about 4-6 M clocks of this top per CPU second (sim/virtual_bench.py), so
 # 12 MHz falls behind real time. BAUD and HB_RATE are brainstem_dio_uart's (HB_RATE 10 = a
 # heartbeat every 256 ms, 0 = none). One build folder per parameter set (make virtual-path
 # prints its binary). It is built with the bench build's speed options: it must keep up.
