@@ -78,11 +78,9 @@ def callgrind(binary: Path, cycles: int) -> dict:
 
 
 def kind(fn: str) -> str:
-    if fn.startswith("Vbrainstem_dio"):
-        return "the model (Verilator's generated code)"
-    if fn.startswith(("Verilated", "Vl")) or "pthread_mutex" in fn:
-        return "Verilator's runtime (per-eval bookkeeping)"
-    return "the harness and the C++/C libraries"
+    return ("the model (Verilator's generated code)" if fn.startswith("Vbrainstem_dio") else
+            "Verilator's runtime" if fn.startswith(("Verilated", "Vl")) or "pthread_mutex" in fn else
+            "the harness and the C++/C libraries")
 
 
 def first_line(cmd: list[str]) -> str:
@@ -97,13 +95,12 @@ def report(r: dict) -> str:
     lines = [f"Measured {r['date']} by `{r['command']}` at commit {r['commit']}.", "",
              f"Machine: {r['machine']}; load average {r['load']} (wall-clock figures move with the load, "
              "Callgrind's counts do not). " + "; ".join(f"{k}: {v}" for k, v in r["versions"].items()) + ".", ""]
-    if r["speed"]:
-        base = r["speed"][0]["cycles"] / r["speed"][0]["seconds"]
-        lines += ["| simulation | cycles | wall s | cycles/s | vs standalone |", "|---|---:|---:|---:|---:|"]
-        for s in r["speed"]:
-            rate = s["cycles"] / s["seconds"]
-            lines.append(f"| {s['label']} | {s['cycles']:,} | {s['seconds']:.2f} | {rate:,.0f} | {rate / base:.4f} |")
-        lines.append("")
+    base = r["speed"][0]["cycles"] / r["speed"][0]["seconds"]
+    lines += ["| simulation | cycles | wall s | cycles/s | vs standalone |", "|---|---:|---:|---:|---:|"]
+    for s in r["speed"]:
+        rate = s["cycles"] / s["seconds"]
+        lines.append(f"| {s['label']} | {s['cycles']:,} | {s['seconds']:.2f} | {rate:,.0f} | {rate / base:.4f} |")
+    lines.append("")
     if r["callgrind"]:
         lines += ["| Callgrind: build (N and 2N clocks) | instructions a clock | target |", "|---|---:|---:|"]
         for label, c in r["callgrind"].items():
