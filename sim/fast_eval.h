@@ -8,6 +8,8 @@
 // instead runs the model's scheduler once with the trigger's memory of clk set to 0: the
 // rising edge, with the inputs set since the last edge. The first eval() must be the public
 // one (it runs the model's initial blocks); settle() is that eval() again, without an edge.
+// A clock that goes into a waveform takes the public eval() for both edges: eval() also marks
+// the activity that the trace's dump() looks for.
 //
 // What the harness samples "before the edge" it reads right after the previous one: the
 // outputs come from flops (AXI-Stream: valid never waits on ready; s_axis_tready from flops,

@@ -185,8 +185,13 @@ class Session {
             const Line l = rflx(top_->rflx_id, top_->rflx_data);
             log(l.what, l.meaning);
         }
-        posedge(*top_);
-        if (dump) trace_->dump(2 * cycle_ + 1);
+        if (dump) {  // through the public eval(): it marks the activity the waveform records
+            top_->clk = 1;
+            top_->eval();
+            trace_->dump(2 * cycle_ + 1);
+        } else {
+            posedge(*top_);
+        }
         ++cycle_;
         if (s_hs) txq_.pop_front();
     }
