@@ -197,15 +197,11 @@ class Session {
     }
 
     void received() {
-        std::vector<uint8_t> p;
-        p.swap(cur_);
-        if (quiet_) {
-            out_.push_back(std::move(p));
-            return;
-        }
-        const Line l = core_packet(p);
+        out_.push_back(cur_);  // a copy: cur_ keeps its capacity for the next packet
+        cur_.clear();
+        if (quiet_) return;
+        const Line l = core_packet(out_.back());
         log(l.what, l.meaning);
-        out_.push_back(p);
     }
 
     void raw_inputs(uint64_t bits) {
