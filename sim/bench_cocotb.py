@@ -1,14 +1,13 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The benchmark's busy scenario under cocotb (run by sim/bench.py, not by pytest):
-back-to-back packet traffic through the TB's drivers and monitors, timers running, two pins
-toggling every 1024 clocks, for the `cycles` test argument (sim/bench.py passes it). The same scenario as
-`sim/session --bench` (the standalone C++ harness), so the figures compare."""
+"""The busy scenario of `sim/session --bench` under cocotb, through the TB's drivers and
+monitors, for the `cycles` test argument (run by sim/bench.py, not by pytest)."""
 
 from __future__ import annotations
 
 import json
 import os
 import time
+from pathlib import Path
 
 import cocotb
 
@@ -51,8 +50,6 @@ async def busy(dut):
     done = True
     wall = time.perf_counter() - t0
     ran = round((tb.now_s() - start) * p.clk_hz)
-    out = os.environ.get("BSD_BENCH_OUT")
-    if out:
-        with open(out, "w") as f:
-            json.dump({"cycles": ran, "seconds": wall, "packets": len(tb.packets)}, f)
+    if out := os.environ.get("BSD_BENCH_OUT"):
+        Path(out).write_text(json.dumps({"cycles": ran, "seconds": wall, "packets": len(tb.packets)}))
     tb.log.info("%d cycles in %.3f s: %.0f cycles/s", ran, wall, ran / wall)

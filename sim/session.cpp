@@ -33,11 +33,15 @@
 #include <vector>
 
 #include "Vbrainstem_dio.h"
+#include "Vbrainstem_dio___024root.h"
+#include "fast_eval.h"
 #include "bsd_protocol.h"
 #include "script.h"
 #include "transcript.h"
 #include "verilated.h"
 #include "trace.h"
+
+BSD_FAST_EVAL(Vbrainstem_dio)
 
 namespace {
 
@@ -68,6 +72,8 @@ class Session {
 #endif
         top_->pin_i = 0;
         top_->m_axis_tready = 1;
+        top_->clk = 0;
+        top_->eval();  // the public one first: initial blocks (sim/fast_eval.h)
         reset();
     }
     ~Session() {
@@ -83,8 +89,10 @@ class Session {
         out_.clear();
         cur_.clear();
         top_->rst = 1;
+        settle(*top_);  // s_axis_tready follows rst without a clock
         for (int i = 0; i < 4; ++i) clock();
         top_->rst = 0;
+        settle(*top_);
         log("reset", "");
     }
 
@@ -143,7 +151,7 @@ class Session {
             }
             if ((cycle_ & 1023) == 0) top_->pin_i ^= 0x18;  // pins 3 and 4 toggle
             clock();
-            out_.clear();
+            if (!out_.empty()) out_.clear();
         }
     }
 
@@ -157,11 +165,14 @@ class Session {
         const bool tx_valid = !txq_.empty();
         top_->s_axis_tvalid = tx_valid;
         top_->s_axis_tdata = tx_valid ? txq_.front() : 0;
-        top_->clk = 0;
-        top_->eval();
         const bool dump = trace_ && (VM_TRACE_FST || cycle_ - last_event_ < window_);
-        if (dump) trace_->dump(2 * cycle_);
-        // Handshakes and strobes are sampled before the rising edge.
+        if (dump) {  // the waveform's falling edge; the model has no logic on it
+            top_->clk = 0;
+            settle(*top_);
+            trace_->dump(2 * cycle_);
+        }
+        // Handshakes and strobes are sampled before the rising edge: the outputs of the last
+        // one (sim/fast_eval.h).
         const bool s_hs = tx_valid && top_->s_axis_tready;
         if (s_hs || top_->raw_trans || top_->rflx_valid || top_->rst) last_event_ = cycle_;
         if (top_->m_axis_tvalid && top_->m_axis_tready) {
@@ -174,23 +185,23 @@ class Session {
             const Line l = rflx(top_->rflx_id, top_->rflx_data);
             log(l.what, l.meaning);
         }
-        top_->clk = 1;
-        top_->eval();
-        if (dump) trace_->dump(2 * cycle_ + 1);
+        if (dump) {  // through the public eval(): it marks the activity the waveform records
+            top_->clk = 1;
+            top_->eval();
+            trace_->dump(2 * cycle_ + 1);
+        } else {
+            posedge(*top_);
+        }
         ++cycle_;
         if (s_hs) txq_.pop_front();
     }
 
     void received() {
-        std::vector<uint8_t> p;
-        p.swap(cur_);
-        if (quiet_) {
-            out_.push_back(std::move(p));
-            return;
-        }
-        const Line l = core_packet(p);
+        out_.push_back(cur_);  // a copy: cur_ keeps its capacity for the next packet
+        cur_.clear();
+        if (quiet_) return;
+        const Line l = core_packet(out_.back());
         log(l.what, l.meaning);
-        out_.push_back(p);
     }
 
     void raw_inputs(uint64_t bits) {

@@ -44,6 +44,35 @@ def test_demo_expectations_hold(session_bin: Path) -> None:
     assert "< 2:cmd index error" in out
 
 
+def test_waveform_has_both_edges_of_every_clock(session_bin: Path, tmp_path: Path) -> None:
+    """The runner evaluates the model once a clock except while it writes the waveform
+    (sim/fast_eval.h): a recorded clock must show clk falling at 2c and rising at 2c + 1,
+    and a packet's reply must be in it."""
+    wave = tmp_path / "s.vcd"
+    script = tmp_path / "s.txt"
+    script.write_text("expect 2 2 128 4\n2 26 3\nexpect 2 3 26 3 1\n")
+    run = subprocess.run([str(session_bin), "--wave", str(wave), str(script)],
+                         cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    if not wave.exists():
+        pytest.skip("this build writes FST (lz4 present), which this test does not read")
+    lines = wave.read_text().splitlines()
+    ids = {ln.split()[4]: ln.split()[3] for ln in lines if ln.split()[:1] == ["$var"]}
+    clk, tx_valid = ids["clk"], ids["m_axis_tvalid"]
+    edges, now, valid_seen = [], 0, 0
+    for ln in lines[lines.index("$enddefinitions $end"):]:
+        if ln.startswith("#"):
+            now = int(ln[1:])
+        elif ln[1:] == clk:
+            edges.append((now, int(ln[0])))
+        elif ln == "1" + tx_valid:
+            valid_seen += 1
+    assert len(edges) >= 40, edges[:5]  # reset, the packet in and its reply out
+    assert all(level == t % 2 for t, level in edges[1:]), [e for e in edges[1:] if e[1] != e[0] % 2][:5]
+    assert all(b[0] - a[0] == 1 for a, b in zip(edges[1:], edges[2:])), "a recorded clock lost an edge"
+    assert valid_seen >= 1, "the reply is not in the waveform"
+
+
 BAD_LINES = [
     ("fly 3", "unknown keyword 'fly'"),
     ("2 26 x", "bad byte 'x'"),
