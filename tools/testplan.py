@@ -229,7 +229,7 @@ def _is_cocotb_decorator(dec: ast.expr, suites: set[str]) -> bool:
 
 
 def _suite_names(tree: ast.Module) -> set[str]:
-    names = {"SUITE"}
+    names = {"SUITE", "runner"}  # runner.run(...): a test file's pytest entry (tb/lib/runner.py)
     for node in tree.body:
         if isinstance(node, ast.Assign) and isinstance(node.value, ast.Call):
             f = node.value.func
