@@ -22,6 +22,7 @@ import json
 import os
 import random
 import re
+import subprocess
 import sys
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -81,8 +82,12 @@ def cases(builds: Sequence[str], quick: str | None = None, deep: Sequence[str] =
 
 
 def build_name(parameters: Mapping[str, object]) -> str:
-    text = re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(f"{k}{parameters[k]}" for k in sorted(parameters)))
-    return text[:60] + "-" + hashlib.sha1(text.encode()).hexdigest()[:8] if len(text) > 70 else text or "default"
+    """A folder name for a parameter set: readable, and with a hash where it had to be changed."""
+    raw = "-".join(f"{k}{parameters[k]}" for k in sorted(parameters))
+    text = re.sub(r"[^A-Za-z0-9_.-]+", "_", raw)
+    if text == raw and len(text) <= 70:
+        return text or "default"
+    return f"{text[:60]}-{hashlib.sha1(raw.encode()).hexdigest()[:8]}"
 
 
 @contextmanager
@@ -92,6 +97,13 @@ def build_lock(folder: Path) -> Iterator[None]:
     with open(folder / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         yield
+
+
+def fst() -> list[str]:
+    """Verilator writes FST for waves where lz4's header is (Debian: liblz4-dev), else a VCD."""
+    probe = subprocess.run(["c++", "-E", "-x", "c++", "-"], input="#include <lz4.h>\n", capture_output=True,
+                           text=True, check=False)
+    return ["--trace-fst"] if probe.returncode == 0 else []
 
 
 def rtl_sources() -> list[Path]:
@@ -118,7 +130,8 @@ def run(sim: str, toplevel: str, module: str, parameters: Mapping[str, object] |
     with build_lock(build_dir):
         runner.build(sources=list(sources or rtl_sources()), hdl_toplevel=toplevel, includes=[RTL],
                      parameters=parameters, build_dir=build_dir, timescale=("1ns", "1ps"), waves=waves,
-                     build_args=(VERILATOR_ARGS + COVERAGE_ARGS * cov) if sim == "verilator" else [])
+                     build_args=VERILATOR_ARGS + COVERAGE_ARGS * cov + (fst() if waves else [])
+                     if sim == "verilator" else [])
     seed = int(os.environ.get("COCOTB_RANDOM_SEED") or random.randrange(1 << 31))
     where = f"{module} on {sim}, build {name}"
     print(f"{where}: COCOTB_RANDOM_SEED={seed}")
