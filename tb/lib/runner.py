@@ -6,9 +6,9 @@ each pytest case runs all of the file's cocotb tests in one simulator run and fa
 the cocotb tests that failed, or when none ran. A cocotb test that suits only some builds
 says so where it is defined: `@cocotb.test(skip=not on("gp1", "gp2"))`.
 
-Builds: one folder per (toplevel, simulator, parameter set), sim_build/<toplevel>/<sim>-<params>,
-shared by every file and build name with those parameters; a file lock keeps two pytest-xdist
-workers from building one folder at once. Inside a simulation `hdl_params()` gives the HDL
+Builds: one folder per (toplevel, simulator, build name, parameter set),
+sim_build/<toplevel>/<sim>-<build>-<hash>, shared by every file that uses the build; a file lock
+keeps two pytest-xdist workers from building one folder at once. Inside a simulation `hdl_params()` gives the HDL
 parameters, `test_args()` the entry's knobs. The seed is printed with each run
 (COCOTB_RANDOM_SEED=<n> repeats it). BSD_COVERAGE=1 (`make coverage`) builds Verilator models
 with line and toggle coverage (`...-cov`) and writes one data file per run to $BSD_COVERAGE_DIR.
@@ -125,7 +125,9 @@ def run(sim: str, toplevel: str, module: str, parameters: Mapping[str, object] |
             sys.path.insert(0, str(folder))
     cov = sim == "verilator" and os.environ.get("BSD_COVERAGE") == "1"
     waves = os.environ.get("WAVES") == "1"
-    build_dir = BUILD / toplevel / f"{sim}-{build_name(parameters)}{'-waves' * waves}{'-cov' * cov}"
+    # <sim>-<build name>-<hash of the parameters>: "x-deep" (x again, for make test-full) shares x's.
+    digest = hashlib.sha1(json.dumps(parameters, sort_keys=True).encode()).hexdigest()[:8]
+    build_dir = BUILD / toplevel / f"{sim}-{name.removesuffix('-deep')}-{digest}{'-waves' * waves}{'-cov' * cov}"
     runner = get_runner(sim)
     with build_lock(build_dir):
         runner.build(sources=list(sources or rtl_sources()), hdl_toplevel=toplevel, includes=[RTL],
