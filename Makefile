@@ -236,22 +236,22 @@ formal: $(FORMAL_STAMP)
 	$(VPY) formal/run.py $(FORMAL_ARGS)
 
 # make test: lint first (CI runs exactly this), then the regression without the `deep` cases;
-# pytest's summary ends with the slowest tests, the measured figures and the build count.
+# pytest's summary ends with the slowest tests and the measured figures. One pytest case per
+# (test file, simulator, build) runs all of that file's cocotb tests in one simulator run
+# (tb/lib/runner.py); pytest-xdist spreads the cases over the workers (--dist loadgroup: a file
+# marked xdist_group, such as the real-time virtual module's, keeps to one worker).
 # make test-full: the same with the deep cases (each case again on the other simulator).
-# --dist loadgroup keeps the cases that share one simulator run on one worker (tb/lib/suite.py);
-# --no-loadscope-reorder keeps conftest.py's longest-first order (xdist would put the groups
-# with the most cases first).
 test: lint $(FORMAL_STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" --dist loadgroup --no-loadscope-reorder $(PYTEST_ARGS) tb host/tests
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rfE --durations=15 -m "not deep" --dist loadgroup $(PYTEST_ARGS) tb host/tests
 
 # make test-full also runs every `make bitstream BOARD=...` through the real tools
 # (synth/tests/test_bitstreams.py; about 1-3 min per board on 2 cores; a board whose tools
 # are missing is skipped, and the skip names them).
 test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
-	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rsfE --durations=15 --dist loadgroup --no-loadscope-reorder $(PYTEST_ARGS) tb host/tests synth/tests
+	@$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) -rsfE --durations=15 --dist loadgroup $(PYTEST_ARGS) tb host/tests synth/tests
 
-# Where make test's time goes, measured on a fresh clone of HEAD (venv, builds per simulator,
-# simulation per test file, pytest-xdist idle time) -> the test-time table of docs/benchmarks.md.
+# make test's time on a fresh clone of HEAD (venv, pytest, builds per simulator, time per
+# test file) -> the test-time table of docs/benchmarks.md.
 test-time: $(STAMP)
 	$(VPY) sim/test_time.py --write --jobs $(JOBS)
 

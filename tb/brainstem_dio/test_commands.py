@@ -5,6 +5,7 @@ every reply checked against the model (tb/lib/bsd_model.py).
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import ReadOnly, RisingEdge
 
@@ -27,7 +28,6 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import _hex
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     FLAGS,
@@ -43,11 +43,10 @@ from top_helpers import (
     setup,
     start_timer,
 )
+import runner
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator", ("test_worked_examples", "gp1")))
 
-
-@SUITE.test("gp1", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "gp2"))
 async def test_worked_examples(dut) -> None:
     """PROTOCOL.md §7, in order, every reply from the model."""
     need(P.num_pins >= 5 and P.has_timer(4) and not P.has_timer(0) and not P.fixed_mask, "§7's pins")
@@ -73,7 +72,7 @@ async def test_worked_examples(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "gp2"))
 async def test_dig_cfg(dut) -> None:
     """Query and set on every pin and out of range, all DIGCFG bit patterns, bits 7:5
     ignored, pin_oe following IODIR, cmdTooLong after a set, FIXED pins per the model."""
@@ -97,7 +96,7 @@ async def test_dig_cfg(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2", "high_ids")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "gp2", "high_ids"))
 async def test_dig_io(dut) -> None:
     """DIG_IO read with HOST/RFLX/both/neither, write values, pin_o/pin_oe, index errors,
     an input's pin_o showing its latch, RFLX strobes not held back by a stalled output."""
@@ -142,7 +141,7 @@ async def test_dig_io(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "gp2"))
 async def test_messages(dut) -> None:
     """Every message of §2 and its precedence: cmdInvalid (any N, codes 4 and 0x80 too)
     before cmdTooShort before the command's own error; cmdTooLong only after success;
@@ -227,7 +226,7 @@ async def test_messages(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "gp2"))
 async def test_framing(dut) -> None:
     """Resync probe; 0xAD with N > 0 and other addresses consumed whole, even when their
     data looks like our packets; N = 0 to us; N > 8 to us and to others: the next byte is a
@@ -261,7 +260,7 @@ async def test_framing(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("slow_fixed")
+@cocotb.test(skip=not runner.on("slow_fixed"))
 async def test_rx_timeout(dut) -> None:
     """A partial packet is dropped after RX_TIMEOUT_US of input idle time, not before: gaps
     just above and just below it, cut after the address, the length and a data byte."""
@@ -292,7 +291,7 @@ async def test_rx_timeout(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("slow_fixed")
+@cocotb.test(skip=not runner.on("slow_fixed"))
 async def test_fixed_pins(dut) -> None:
     """FIXED_MASK/FIXED_CFG: query shows bit 7 and the fixed bits, DIG_CFG set gives
     configErr and changes nothing (extra bytes: still only configErr), a fixed output drives
@@ -331,7 +330,7 @@ async def test_fixed_pins(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed"))
 async def test_forms_by_pin_kind(dut) -> None:
     """Every form (N = 2..8) of every pin command on a pin of each kind: an input and an
     output with and without a timer, each fixed pin as it is, and pins out of range. Each
@@ -381,6 +380,11 @@ async def test_forms_by_pin_kind(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_commands_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(["gp1", "slow_fixed", "gp2", "high_ids"], quick="verilator"))
+def test_commands_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)
+
+
+def test_commands_top_icarus_examples() -> None:
+    """make test's run of the top on Icarus: the worked examples on GP 1.0 (test-full runs all)."""
+    runner.run("icarus", "brainstem_dio", __file__, BUILDS["gp1"], "gp1", testcase="test_worked_examples")

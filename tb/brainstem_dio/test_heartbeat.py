@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 
+import cocotb
 import pytest
 
 from bsd_model import (
@@ -28,11 +29,9 @@ from bsd_model import (
     timer_interval,
 )
 from bsd_tb import TB, TBError
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import P, check_result, need, start_timer, timer_value
-
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
+import runner
 
 
 class HeartbeatTB(TB):
@@ -76,7 +75,7 @@ class HeartbeatTB(TB):
         self.check_link(model, f"after the answer {kind}")
 
 
-@SUITE.test("heartbeat")
+@cocotb.test(skip=not runner.on("heartbeat"))
 async def test_heartbeats_and_link_up(dut) -> None:
     """First heartbeat one period after reset, UP/DOWN alternating, each on its due time;
     link_up checked just before and after every due time: answered in time, missing, late
@@ -124,7 +123,7 @@ async def test_heartbeats_and_link_up(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("heartbeat")
+@cocotb.test(skip=not runner.on("heartbeat"))
 async def test_stall_with_waiting_packets(dut) -> None:
     """The output stalled while any mix of a command reply, a timer result and a heartbeat
     falls due (all eight): nothing leaves during the stall, the RFLX strobe is not held
@@ -173,7 +172,7 @@ async def test_stall_with_waiting_packets(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("clk2")
+@cocotb.test(skip=not runner.on("clk2"))
 async def test_no_heartbeat_when_off(dut) -> None:
     """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the host sends."""
     p = P
@@ -192,6 +191,6 @@ async def test_no_heartbeat_when_off(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_heartbeat_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(["heartbeat", "clk2"], quick="verilator"))
+def test_heartbeat_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)

@@ -23,11 +23,10 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import TB, TBError
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import OUT_OF_RANGE, A, P, configure, need, set_pins_checked, setup
+import runner
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # A command's state change lands this many clocks after its last byte's handshake
 # (docs/DESIGN.md, "Latencies").
@@ -39,7 +38,7 @@ def hold_s(p: Params) -> float:
     return 2.5 / p.poll_hz if p.poll_hz else 20 / p.clk_hz
 
 
-@SUITE.test("clk8", "clk8_poll0")
+@cocotb.test(skip=not runner.on("clk8", "clk8_poll0"))
 async def test_random_sequence(dut) -> None:
     """Random pad levels, DIG_RST and DIG_CFG sets (ENA, TRG, IODIR) on every free pin."""
     p = P
@@ -67,7 +66,7 @@ async def test_random_sequence(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("clk8")
+@cocotb.test(skip=not runner.on("clk8"))
 async def test_polling_grid(dut) -> None:
     """POLL_HZ > 0: the latch fires on a poll, so a glitch between two polls is never seen
     and every raw_trans pulse lands on the poll grid that starts at reset."""
@@ -106,7 +105,7 @@ async def test_polling_grid(dut) -> None:
     tb.log.info("raw_trans %.2f clocks after a poll", off_clocks)
 
 
-@SUITE.test("clk8_poll0")
+@cocotb.test(skip=not runner.on("clk8_poll0"))
 async def test_rearm_meets_edge(dut) -> None:
     """POLL_HZ = 0: re-arm a live latch (DIG_CFG set) while its pad moves in the TRG
     direction (TRG rising, then falling), at every clock offset around the command. The re-arm takes effect EXEC_CLOCKS after the last byte's
@@ -165,7 +164,7 @@ async def _rise_after_edges(tb: TB, pin: int, edges: int, extra_ps: int, level: 
     tb.set_pin(pin, level)
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "gp2"))
 async def test_dig_rst_latch(dut) -> None:
     """ENA/TRG one-shot on raw_trans: fires once per arm in the TRG direction, a present
     level never fires, DIG_RST and DIG_CFG set re-arm, ENA = 0 and outputs never fire,
@@ -210,7 +209,7 @@ async def test_dig_rst_latch(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("high_ids")
+@cocotb.test(skip=not runner.on("high_ids"))
 async def test_every_pin_latch(dut) -> None:
     """The widest build (8 pins): every pin's latch armed for rising edges fires once when
     its pad rises (one pin at a time, then all together after a DIG_RST of each), never on
@@ -229,6 +228,7 @@ async def test_every_pin_latch(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_latch_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(
+    ["gp1", "slow_fixed", "gp2", "high_ids", "clk8", "clk8_poll0"], quick="verilator"))
+def test_latch_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)

@@ -6,6 +6,7 @@ stalls, and a reset in the middle of traffic.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from bsd_model import (
@@ -24,7 +25,6 @@ from bsd_model import (
     timer_interval,
 )
 from bsd_tb import TBError, _hex
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     A,
@@ -39,11 +39,10 @@ from top_helpers import (
     start_timer,
     timer_value,
 )
+import runner
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
-
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_throughput(dut) -> None:
     """With m_axis_tready high, commands without replies stream at one byte per clock,
     DIG_IO reads with only the RFLX bit (a strobe, no packet) included."""
@@ -68,7 +67,7 @@ async def test_throughput(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "gp2"))
 async def test_order_stalled(dut) -> None:
     """DESIGN.md 1: with m_axis stalled, packets leave oldest first (a timer result that
     completed before a command's reply goes first, and after it goes after); results of one
@@ -135,7 +134,7 @@ async def test_order_stalled(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_reply_hold(dut) -> None:
     """DESIGN.md 2: while a reply waits, the core holds back a packet that could produce
     another reply: the *last* byte of an own packet with 1 <= N <= 8; a packet ended by its
@@ -175,7 +174,7 @@ async def test_reply_hold(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("slow_fixed")
+@cocotb.test(skip=not runner.on("slow_fixed"))
 async def test_long_stall(dut) -> None:
     """The core's own stall (m_axis_tready low for several RX timeouts while a reply waits
     and the host offers the next packet) never drops that packet."""
@@ -198,7 +197,7 @@ async def test_long_stall(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "slow_fixed")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed"))
 async def test_reset_mid(dut) -> None:
     """rst in the middle of a host packet, of an outgoing packet, and of a running timer:
     back to the power-up state, parser waiting for an address, no stale result."""
@@ -246,6 +245,6 @@ async def test_reset_mid(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_ordering_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(["gp1", "slow_fixed", "gp2"], quick="verilator"))
+def test_ordering_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)

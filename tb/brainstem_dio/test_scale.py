@@ -15,6 +15,7 @@ last 16 clocks.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
@@ -32,11 +33,10 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import TBError
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import A, P, check_result, configure, finish_timers, need, setup, timer_value
+import runner
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 ALL = (1 << P.num_pins) - 1
 FLAGS = DEVCODE_HOST | DEVCODE_RFLX
 
@@ -62,7 +62,7 @@ async def start_all(tb, m, cfg: int, flags: int = FLAGS) -> dict[int, float]:
     return starts
 
 
-@SUITE.test("t64_2", "t64_48")
+@cocotb.test(skip=not runner.on("t64_2", "t64_48"))
 async def test_64_completions_and_reply_one_clock(dut) -> None:
     """All 64 timers complete on the clock a DIG_CFG query executes: 64 results by ascending
     pin, then the query's reply; RFLX strobes by ascending ID on successive clocks."""
@@ -125,7 +125,7 @@ class Ticks:
             c += 1
 
 
-@SUITE.test("t64_2")
+@cocotb.test(skip=not runner.on("t64_2"))
 async def test_64_timeouts_with_completions_on_the_timeout_clock(dut) -> None:
     """64 edge-mode timers time out at 2 MHz; every fourth one's pad reaches the target on
     the clock of its timeout (the completion wins: 65 535 ticks), every fourth one a clock
@@ -179,7 +179,7 @@ async def test_64_timeouts_with_completions_on_the_timeout_clock(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("t64_2")
+@cocotb.test(skip=not runner.on("t64_2"))
 async def test_stall_200ms_every_result_waiting(dut) -> None:
     """m_axis stalled for 200 ms while all 64 timers complete (width mode, 30 us apart): each
     RFLX strobe comes within 100 clocks of its completion, the input keeps streaming commands
@@ -223,7 +223,7 @@ async def test_stall_200ms_every_result_waiting(dut) -> None:
 
 # make test runs the two ends (2 and 48 MHz); 2.5 and 12 MHz, two more 64-pin builds, are deep
 # (make test-full), which keeps make test within its 5 minutes on a fresh clone.
-@SUITE.test("t64_2", "t64_2p5", "t64_12", "t64_48", deep=lambda sim, b: b in ("t64_2p5", "t64_12"))
+@cocotb.test(skip=not runner.on("t64_2", "t64_2p5", "t64_12", "t64_48"))
 async def test_accuracy_64_timers(dut) -> None:
     """64 timers at once (half edge, half width mode, random targets), intervals of 20 us to
     3 ms, completions at least 20 us apart: every result within one tick (plus the fixed
@@ -264,7 +264,7 @@ async def test_accuracy_64_timers(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("t64_2", "gp1")
+@cocotb.test(skip=not runner.on("t64_2", "gp1"))
 async def test_restart_right_after_delivery(dut) -> None:
     """A PTIME_RD whose last byte comes the clock after the result's last byte has left
     starts again (no tmrConflict); one the clock before that gets tmrConflict. RFLX-only:
@@ -312,7 +312,7 @@ async def test_restart_right_after_delivery(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "t64_2")
+@cocotb.test(skip=not runner.on("gp1", "t64_2"))
 async def test_latencies(dut) -> None:
     """DESIGN.md Latencies, with the output idle: a reply's first byte is offered on the 7th
     clock after the clock its command's last byte is taken (its handshake 7 clock edges
@@ -354,6 +354,7 @@ async def test_latencies(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_scale_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(
+    ["gp1", "t64_2", "t64_2p5", "t64_12", "t64_48"], quick="verilator", deep=["t64_2p5", "t64_12"]))
+def test_scale_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)

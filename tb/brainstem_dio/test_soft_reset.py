@@ -8,6 +8,7 @@ stopped, and the bytes after the command served after the reset.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from bsd_model import (
@@ -24,11 +25,10 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import TBError, _hex
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import A, P, check_result, configure, need, settle_pins, setup, start_timer
+import runner
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # The reset takes effect this many clocks after the command's last byte is taken
 # (DESIGN.md "Latencies": execution 2 clocks, then the reset strobe's register).
@@ -52,7 +52,7 @@ async def dirty(tb, m) -> None:
     tb.check_pins(m)
 
 
-@SUITE.test("gp1", "slow_fixed", "high_ids")
+@cocotb.test(skip=not runner.on("gp1", "slow_fixed", "high_ids"))
 async def test_reset_forms(dut) -> None:
     """Every N from 1 to 8: only the power-up message comes back (never cmdTooLong), and
     every pin's configuration, output latch and latch is back at power-up (fixed pins at
@@ -76,7 +76,7 @@ async def test_reset_forms(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "gp2"))
 async def test_bytes_after_reset(dut) -> None:
     """Packets sent back to back behind a cmdRESET (no gap, in one burst) are served after
     the reset, in order: nothing is lost and the power-up message comes first. The first
@@ -109,7 +109,7 @@ async def finished_result(tb, m, pin: int, flags: int) -> None:
     await tb.wait_s(60e-6)
 
 
-@SUITE.test("gp1", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "gp2"))
 async def test_reset_drops_what_waits(dut) -> None:
     """Output stalled: a finished timer result whose first byte is offered but not taken,
     and a measurement still running. cmdRESET: the result is dropped (the offered byte
@@ -144,7 +144,7 @@ async def test_reset_drops_what_waits(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "high_ids")
+@cocotb.test(skip=not runner.on("gp1", "high_ids"))
 async def test_reset_finishes_partial_packet(dut) -> None:
     """A timer result with 1 to 5 of its 6 bytes taken when cmdRESET executes is finished,
     whole, then the power-up message follows; with none taken it is replaced."""
@@ -171,7 +171,7 @@ async def test_reset_finishes_partial_packet(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_reset_against_rflx_burst(dut) -> None:
     """Every timer pin finishes on one clock with RFLX only (their strobes leave on
     successive clocks, lowest ID first) while cmdRESET lands well before, during or after
@@ -216,6 +216,6 @@ async def test_reset_against_rflx_burst(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_soft_reset_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(["gp1", "slow_fixed", "gp2", "high_ids"], quick="verilator"))
+def test_soft_reset_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 import random
 
+import cocotb
 import pytest
 
 from bsd_model import (
@@ -26,12 +27,11 @@ from bsd_model import (
     packet,
 )
 from bsd_tb import TB, TBError, _hex
+import runner
 from runner import test_args
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import FLAGS, OUT_OF_RANGE, A, P
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # Packets per run: the full 10 000 on the GP 1.0 build on both simulators, a smaller share
 # on the others. $BSD_STRESS_PACKETS overrides it (e.g. 100000 for a long soak).
@@ -163,7 +163,7 @@ async def stress_chunk(tb: TB, count: int, rng: random.Random, chunk: int) -> No
                 len(got), len(rflx), elapsed * 1e3)
 
 
-@SUITE.test("gp1", "slow_fixed", "gp2", "high_ids", args=stress_args)
+@cocotb.test()
 async def test_stress(dut) -> None:
     """Seeded random packets (valid, invalid, foreign, garbage lengths, N > 8, probes) with
     random m_axis_tready and random s_axis_tvalid gaps, static pads, checked byte for byte
@@ -181,6 +181,6 @@ async def test_stress(dut) -> None:
         chunk += 1
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_stress_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(["gp1", "slow_fixed", "gp2", "high_ids"], quick="verilator"))
+def test_stress_top(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build], build, args=stress_args(sim, build))

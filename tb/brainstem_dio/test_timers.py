@@ -29,8 +29,8 @@ from bsd_model import (
     timer_interval,
 )
 from bsd_tb import TB, TBError
+import runner
 from runner import test_args
-from suite import Suite, on
 from top_builds import BUILDS
 from top_helpers import (
     FLAGS,
@@ -48,7 +48,6 @@ from top_helpers import (
     timer_value,
 )
 
-SUITE = Suite(__file__, "brainstem_dio", BUILDS, quick=on("verilator"))
 
 # Reference lag difference in clocks (see test_timer_accuracy).
 LAG_CLOCKS = {False: 2, True: 1}
@@ -105,7 +104,7 @@ class TimerJob:
         return [(t0 + self.interval, tgt)]
 
 
-@SUITE.test(*ACCURACY, args=accuracy_args)
+@cocotb.test(skip=not runner.on(*ACCURACY))
 async def test_timer_accuracy(dut) -> None:
     """Random edge intervals and widths on every timer pin at once, in batches; every
     result within one tick plus the fixed latency of the true interval (the bound: a result
@@ -174,7 +173,7 @@ async def test_timer_accuracy(dut) -> None:
         f"{worst_net:.3f} ticks less the fixed latency allowance")
 
 
-@SUITE.test("gp1", "gp2", "high_ids")
+@cocotb.test(skip=not runner.on("gp1", "gp2", "high_ids"))
 async def test_timers(dut) -> None:
     """Edge and width mode for each timer pin and both targets, ±1 tick of the model; HOST,
     RFLX, both, neither; a pin already at target must leave it first; a sub-tick pulse gives
@@ -273,7 +272,7 @@ async def test_timers(dut) -> None:
 # make test times out at 2 MHz (two builds) and 48 MHz; the 32 MHz run (3.4 M clocks, the
 # longest single case of make test) is deep: the timeout counts ticks, and the 32 MHz tick
 # is checked by test_timer_accuracy here and by bsd_tick_gen's tests and proof.
-@SUITE.test("slow_fixed", "gp1", "clk32", "clk2", deep=lambda sim, build: build == "clk32")
+@cocotb.test(skip=not runner.on("slow_fixed", "gp1", "clk32-deep", "clk2"))
 async def test_timer_timeout(dut) -> None:
     """No completion within 65 535 ticks of the start: result 0 (HOST and RFLX), 65 535
     ticks after the start (± a tick, plus a few clocks), at several clock rates; the timeout counts from the start in width mode too; a completion just
@@ -309,7 +308,7 @@ async def test_timer_timeout(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "clk2")
+@cocotb.test(skip=not runner.on("gp1", "clk2"))
 async def test_timer_mode_outcomes(dut) -> None:
     """Each timer mode (edge, width) with each target level: tmrConflict while busy (four
     timers at once, each in one mode), then at 48 MHz a result of 1 (the edge or the pulse
@@ -346,7 +345,7 @@ async def test_timer_mode_outcomes(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("gp1", "gp2")
+@cocotb.test(skip=not runner.on("gp1", "gp2"))
 async def test_reply_before_later_timer(dut) -> None:
     """DESIGN.md 1 at clock level: a command's reply or message is an event of the clock
     the command executes. PTIME_RD with an extra byte starts the timer and answers
@@ -374,7 +373,7 @@ async def test_reply_before_later_timer(dut) -> None:
     tb.check_no_errors()
 
 
-@SUITE.test("clk2", "high_ids", deep=lambda sim, build: build == "high_ids" or sim == "icarus")
+@cocotb.test(skip=not runner.on("clk2", "high_ids-deep"))
 async def test_long_result(dut) -> None:
     """A result with every high bit set, delivered on HOST and RFLX: an edge 104.5 ms after
     the start (65 312 ticks, 0xFF20, just under the 65 535-tick limit), then a short one
@@ -395,6 +394,10 @@ async def test_long_result(dut) -> None:
     tb.check_no_errors()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_timers_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(
+    ["gp1", "slow_fixed", "gp2", "high_ids", "clk2", "clk32", "clk32-deep", "high_ids-deep"], quick="verilator",
+    deep=["clk32-deep", "high_ids-deep"]))
+def test_timers_top(sim: str, build: str) -> None:
+    # X-deep: build X, for the tests make test leaves to make test-full.
+    runner.run(sim, "brainstem_dio", __file__, BUILDS[build.removesuffix("-deep")], build,
+               args=accuracy_args(sim, build) if build in ACCURACY else {})

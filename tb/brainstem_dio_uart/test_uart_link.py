@@ -60,19 +60,14 @@ from bsd_model import (
 )
 from bsd_protocol import MAX_N as MAX_DATA
 from bsd_protocol import MSG_CMD_Q_OVERFLOW
+import runner
 from runner import hdl_params
-from suite import Suite, on
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
 
 BUILDS = {
     "b9600": {**Params(clk_hz=2_000_000, hb_rate=10).to_hdl(), "BAUD": 9600, "FIFO_DEPTH": 8},
     "b115200": {**Params(clk_hz=2_304_000, hb_rate=1).to_hdl(), "BAUD": 115_200, "FIFO_DEPTH": 16},
 }
-SUITE = Suite(__file__, "brainstem_dio_uart", BUILDS, quick=on("verilator"))
-
-
-def not_icarus_9600(sim: str, build: str) -> bool:
-    return not (sim == "icarus" and build == "b9600")
 
 
 P = Params.from_env()
@@ -256,7 +251,7 @@ def overflow_msg() -> bytes:
 
 # ================================================================================ tests
 
-@SUITE.test()
+@cocotb.test()
 async def test_worked_examples(dut) -> None:
     """docs/PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""
@@ -328,7 +323,7 @@ def random_command(rng: random.Random, reply: bool) -> bytes:
     return packet(A, CMD_DIG_RST, pin)
 
 
-@SUITE.test(only=not_icarus_9600)
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
 async def test_back_to_back(dut) -> None:
     """Random commands sent back to back at the full line rate (no idle bit between frames):
     every reply as the model's, no byte lost, and each reply packet leaves at the full line
@@ -359,7 +354,7 @@ async def test_back_to_back(dut) -> None:
         i += n
 
 
-@SUITE.test(only=not_icarus_9600)
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
 async def test_framing_error(dut) -> None:
     """Malformed frames on the line (stop bit 0) are dropped and flagged: one between two
     packets changes nothing; one inside a packet leaves it incomplete, so the core drops it
@@ -409,7 +404,7 @@ async def flood(host: Host, m: Model, strobes: Strobes, commands: int) -> tuple[
     return exp.packets, strobes.dropped(n_rx), strobes.bursts - n_bursts
 
 
-@SUITE.test(only=not_icarus_9600)
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
 async def test_fifo_overflow(dut) -> None:
     """The host outruns the module: bytes that find the RX FIFO full are dropped, the core
     gets exactly the kept bytes (its replies as the model's for them), and cmdQOverflow
@@ -450,7 +445,7 @@ async def test_fifo_overflow(dut) -> None:
     assert not strobes.frame_err
 
 
-@SUITE.test("b115200")
+@cocotb.test(skip=not runner.on("b115200"))
 async def test_heartbeat_host(dut) -> None:
     """The heartbeat answered by the host model as the original host library does: UP/DOWN
     heartbeats one period apart from reset, link_up rising on the answers and staying up
@@ -491,7 +486,7 @@ async def test_heartbeat_host(dut) -> None:
     host.check_line()
 
 
-@SUITE.test("b115200")
+@cocotb.test(skip=not runner.on("b115200"))
 async def test_reset_with_queue(dut) -> None:
     """cmdRESET over the serial line with commands queued behind it in the RX FIFO (one
     back-to-back burst): the power-up message first, then every queued command's reply as
@@ -525,7 +520,7 @@ async def test_reset_with_queue(dut) -> None:
     host.check_line()
 
 
-@SUITE.test("b9600", sims=["verilator"])
+@cocotb.test(skip=not runner.on("b9600", sims=["verilator"]))
 async def test_heartbeat_default_rate(dut) -> None:
     """The wrapper's default HB_RATE (10 = 256 ms, the original module's): the first
     heartbeat (UP) comes 256 ms after reset; the host's answer raises link_up."""
@@ -572,7 +567,7 @@ class Pulses:
                 await RisingEdge(self.dut.clk)
 
 
-@SUITE.test(only=not_icarus_9600, deep=lambda sim, build: sim == "icarus")
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
 async def test_pins_latch_rflx(dut) -> None:
     """The wrapper's pin ports and strobes against the model: pins 1..3 as outputs driven 1
     then 0 (pin_o, pin_oe), every pin's transition latch armed for rising edges firing once
@@ -643,6 +638,6 @@ async def test_pins_latch_rflx(dut) -> None:
     host.check_line()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_brainstem_dio_uart(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
+def test_brainstem_dio_uart(sim: str, build: str) -> None:
+    runner.run(sim, "brainstem_dio_uart", __file__, BUILDS[build], build)

@@ -10,14 +10,15 @@ middle of a clock must not move them (tb/lib/stream_check.py).
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 
 import stream_check
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_axis_skid", {"w8": {"WIDTH": 8}, "w9": {"WIDTH": 9}}, quick=on("icarus"))
+BUILDS = {"w8": {"WIDTH": 8}, "w9": {"WIDTH": 9}}
 
 
 def make_tb(dut) -> stream_check.StreamTB:
@@ -25,19 +26,18 @@ def make_tb(dut) -> stream_check.StreamTB:
     return stream_check.StreamTB(dut, int(p["WIDTH"]), 2)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_traffic(dut) -> None:
     """Every word comes out once, in order, never more inside than the capacity."""
     await stream_check.random_traffic(make_tb(dut))
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_full_rate_and_capacity(dut) -> None:
     """One word a clock at full rate; exactly the capacity taken while stalled."""
     await stream_check.full_rate_and_capacity(make_tb(dut))
 
 
-
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_axis_skid(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_axis_skid(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_axis_skid", __file__, BUILDS[build], build)

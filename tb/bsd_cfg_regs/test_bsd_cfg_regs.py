@@ -10,21 +10,22 @@ come from flops (or constants). CfgModel is compared with both outputs after eve
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from bsd_protocol import DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
 # pins7-fixed: pins 1, 3 and 6 fixed; pin 3 an input with ENA (0x13 | junk in bits 7:5,
 # which must not show), pin 1 an output, pin 6 an input with TMODE/TSTATE/TRG.
 FIXED_CFG7 = (0x1D << 48) | (0xE3 << 24) | (0xA0 << 8) | 0x5A  # pin 0's byte: unused
-SUITE = Suite(__file__, "bsd_cfg_regs", {
+BUILDS = {
     "pins5": {"NUM_PINS": 5},
     "pins7-fixed": {"NUM_PINS": 7, "FIXED_MASK": "7'b1001010", "FIXED_CFG": f"56'h{FIXED_CFG7:x}"},
     "pins1-fixed": {"NUM_PINS": 1, "FIXED_MASK": "1'b1", "FIXED_CFG": "8'h03"},
-}, quick=on("icarus"))
+}
 
 
 def vint(v: object) -> int:
@@ -87,7 +88,7 @@ class CfgTB(ClockedTB):
         return (out["cfg_o"] >> (5 * p)) & 0x1F
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_reset_values(dut) -> None:
     """After reset: every free pin 0x01 (input, disarmed), every fixed pin FIXED_CFG's bits
     4:0 (ENA as given: armed), every output latch 0; also after writes and a second reset."""
@@ -107,7 +108,7 @@ async def test_reset_values(dut) -> None:
     assert out["out_o"] == 0 and out == tb.model.outputs()
 
 
-@SUITE.test("pins7-fixed", "pins1-fixed")
+@cocotb.test(skip=not runner.on("pins7-fixed", "pins1-fixed"))
 async def test_fixed_read_only(dut) -> None:
     """Configuration writes to a fixed pin change nothing (its latch stays writable);
     a fixed pin with ENA in FIXED_CFG reads armed from reset on."""
@@ -125,7 +126,7 @@ async def test_fixed_read_only(dut) -> None:
         assert (out["out_o"] >> p) & 1
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_writes_one_pin(dut) -> None:
     """A configuration write stores all of bits 4:0 of one pin only; an output write sets
     one latch only; both on one clock go to the same pin; an index >= NUM_PINS writes nothing."""
@@ -155,7 +156,7 @@ async def test_writes_one_pin(dut) -> None:
     assert out == before
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut) -> None:
     """Random writes (any index 0..63), enables and resets, compared every clock."""
     tb = CfgTB(dut)
@@ -168,6 +169,6 @@ async def test_random_vs_model(dut) -> None:
                       cfg_wdata_i=rng.randrange(32), out_wdata_i=rng.randrange(2))
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_cfg_regs(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_cfg_regs(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_cfg_regs", __file__, BUILDS[build], build)

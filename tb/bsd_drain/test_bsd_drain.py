@@ -14,12 +14,13 @@ The entries come from a queue model with random gaps, several per clock's worth 
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
 # gp1: GP 1.0's timers (pins 1-4, IDs 11-14, consecutive); sparse: timers on pins 1, 2, 5
 # and 7 of 8, IDs 4, 5, 8, 10 (the ID table), so DIG_IO IDs fall between timer IDs.
@@ -27,7 +28,6 @@ BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "TIMER_ID_BASE": 10, "NT": 4},
     "sparse": {"NUM_PINS": 8, "TIMER_MASK": "8'b10100110", "TIMER_ID_BASE": 3, "NT": 4},
 }
-SUITE = Suite(__file__, "bsd_drain", BUILDS, quick=on("verilator"))
 TIMER, REPLY, HB = 0, 1, 2
 
 
@@ -149,7 +149,7 @@ async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
     assert len(want_items) > 20 and len(want_strobes) > 20
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_order_and_results(dut) -> None:
     """Back-to-back entries: items and strobes in entry order, timers ascending, the DIG_IO
     value placed by its ID, results T - reference (1 for 0, 0 for timeouts)."""
@@ -158,7 +158,7 @@ async def test_order_and_results(dut) -> None:
     await run(tb, 150, 0.0)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_gaps(dut) -> None:
     """The same with gaps between entries (an empty queue now and then)."""
     tb = DrainTB(dut)
@@ -166,7 +166,7 @@ async def test_gaps(dut) -> None:
     await run(tb, 150, 0.5)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_item_a_clock(dut) -> None:
     """An entry of every timer's finish, the DIG_IO value, the reply and the heartbeat takes
     exactly one clock per item, and the next entry follows with no idle clock."""
@@ -188,6 +188,6 @@ async def test_item_a_clock(dut) -> None:
     assert taken[1] - taken[0] == nt and taken[2] - taken[1] == nt + 3, taken
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_drain(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
+def test_bsd_drain(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_drain", __file__, BUILDS[build], build)

@@ -23,6 +23,7 @@ in simulation, so every test spaces its packets so.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB,
@@ -30,18 +31,18 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
                           DIGCFG_FIXED, DIGCFG_IODIR, DIGCFG_STORED, HB_ANSWER_OFFSET, HB_DOWN,
                           HB_UP, KIND_CMD, KIND_PROBE, KIND_SERIAL, MAX_N, MSG_CMD_INDEX_ERR,
                           MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR,
-                          MSG_N, MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
+                          MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_exec", {
+BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},
     "pins7-fixed": {"NUM_PINS": 7, "TIMER_MASK": "7'b1010011", "FIXED_MASK": "7'b0100101",
                     "PIN_ID_BASE": 40},
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
-}, quick=on("icarus"))
+}
 
 ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "hb_answer_o",
           "reply_o", "dio_rflx_o", "soft_reset_o")
@@ -215,7 +216,7 @@ def message(code: int) -> list[int]:
     return [CMD_MSG, code]
 
 
-@SUITE.test("gp1", "pins7-fixed", "pins64")
+@cocotb.test(skip=not runner.on("gp1", "pins7-fixed", "pins64"))
 async def test_dig_cfg(dut) -> None:
     """Set: a cfg write of bits 4:0 to that pin and its re-arm, no reply; query: `26, pin,
     DIGCFG` with FIXED set on fixed pins; a fixed pin's set is configErr and changes nothing;
@@ -241,7 +242,7 @@ async def test_dig_cfg(dut) -> None:
             assert tb.reply(out) == message(MSG_CMD_INDEX_ERR), f"{form}"
 
 
-@SUITE.test("gp1", "pins7-fixed", "pins64")
+@cocotb.test(skip=not runner.on("gp1", "pins7-fixed", "pins64"))
 async def test_dig_io(dut) -> None:
     """Write: output latch <- value != 0 on an output pin, cmdIndexErr on an input pin or a
     bad pin; read (DEVCODE): HOST replies `4, PIN_ID_BASE+pin, level`, RFLX strobes the same
@@ -281,7 +282,7 @@ async def test_dig_io(dut) -> None:
         assert tb.reply(out) == message(MSG_CMD_INDEX_ERR)
 
 
-@SUITE.test("gp1", "pins7-fixed", "pins64")
+@cocotb.test(skip=not runner.on("gp1", "pins7-fixed", "pins64"))
 async def test_dig_rst_and_ptime(dut) -> None:
     """DIG_RST re-arms its pin, silently even on an output pin (decision 6); PTIME_RD starts
     the pin's timer with the DEVCODE's HOST/RFLX bits, cmdIndexErr without a timer, on an
@@ -315,7 +316,7 @@ async def test_dig_rst_and_ptime(dut) -> None:
         assert tb.reply(out) == message(MSG_CMD_INDEX_ERR) and out["timer_start_o"] == 0
 
 
-@SUITE.test("gp1", "pins7-fixed")
+@cocotb.test(skip=not runner.on("gp1", "pins7-fixed"))
 async def test_precedence(dut) -> None:
     """cmdInvalid (any N >= 1) before cmdTooShort before the command's own error; cmdTooLong
     only after a success (with its action); an error with extra bytes is only the error."""
@@ -359,7 +360,7 @@ async def test_precedence(dut) -> None:
     assert tb.reply(out)[0] == CMD_DEV_VAL
 
 
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_probe_serial_hb(dut) -> None:
     """The resync probe replies `A, 0`; serialError for N > 8; cmdHB is always silent and
     answers only with N >= 2 and type 2 (UP) or 3 (DOWN), whatever follows."""
@@ -379,7 +380,7 @@ async def test_probe_serial_hb(dut) -> None:
                 assert out["hb_answer_down_o"] == int(typ == HB_DOWN + HB_ANSWER_OFFSET)
 
 
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_strobe_clock(dut) -> None:
     """The strobes and the reply show on exactly one clock, the one after pkt_valid_i; the
     pin state counts as it was on the pkt_valid_i clock (a change a clock later is not seen)."""
@@ -406,7 +407,7 @@ async def test_strobe_clock(dut) -> None:
     assert out["rearm_o"] == 0 and out["s2_valid_o"] == 0
 
 
-@SUITE.test("gp1")
+@cocotb.test(skip=not runner.on("gp1"))
 async def test_debug_echo(dut) -> None:
     """cmdDEBUG is echoed whole for every N from 1 to 8: `23, d1 .. d(N-1)` as the reply."""
     tb = ExecTB(dut)
@@ -420,7 +421,7 @@ async def test_debug_echo(dut) -> None:
         await tb.steps(2)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut) -> None:
     """Random packets (every kind, code, N, pin and DEVCODE byte) over random pin state,
     three clocks apart (the closest the parser hands them over) or more, rare resets; the
@@ -449,6 +450,6 @@ async def test_random_vs_model(dut) -> None:
     assert strobes > 100 and tb.replies > 800, (strobes, tb.replies)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_exec(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_exec(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_exec", __file__, BUILDS[build], build)

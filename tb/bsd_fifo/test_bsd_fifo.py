@@ -10,17 +10,18 @@ middle of a clock must not move them (tb/lib/stream_check.py).
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import ReadOnly
 
 import stream_check
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
 # d512: the serial wrapper's RX FIFO (brainstem_dio_uart's FIFO_DEPTH default, the board
 # tops' build), for its upper pointer bits; it runs only test_deep_fill_and_wrap.
-SUITE = Suite(__file__, "bsd_fifo", {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16},
-                                     "d512": {"WIDTH": 8, "DEPTH": 512}}, quick=on("icarus"))
+BUILDS = {"d2": {"WIDTH": 8, "DEPTH": 2}, "d16": {"WIDTH": 8, "DEPTH": 16},
+                                     "d512": {"WIDTH": 8, "DEPTH": 512}}
 SMALL = ("d2", "d16")
 
 
@@ -29,19 +30,19 @@ def make_tb(dut) -> stream_check.StreamTB:
     return stream_check.StreamTB(dut, int(p["WIDTH"]), int(p["DEPTH"]) + 1)
 
 
-@SUITE.test(*SMALL)
+@cocotb.test(skip=not runner.on(*SMALL))
 async def test_random_traffic(dut) -> None:
     """Every word comes out once, in order, never more inside than the capacity."""
     await stream_check.random_traffic(make_tb(dut))
 
 
-@SUITE.test(*SMALL)
+@cocotb.test(skip=not runner.on(*SMALL))
 async def test_full_rate_and_capacity(dut) -> None:
     """One word a clock at full rate; exactly the capacity taken while stalled."""
     await stream_check.full_rate_and_capacity(make_tb(dut))
 
 
-@SUITE.test(*SMALL)
+@cocotb.test(skip=not runner.on(*SMALL))
 async def test_fifo_empty_flag(dut) -> None:
     """empty_o is 1 exactly when no word is inside (the RAM and the output register)."""
     tb = make_tb(dut)
@@ -53,7 +54,7 @@ async def test_fifo_empty_flag(dut) -> None:
         assert int(dut.empty_o.value) == int(not tb.sent), f"empty_o with {len(tb.sent)} words inside"
 
 
-@SUITE.test("d512")
+@cocotb.test(skip=not runner.on("d512"))
 async def test_deep_fill_and_wrap(dut) -> None:
     """The 512-word RAM filled to the capacity (DEPTH + 1) with the output stalled, drained,
     then over 1024 words at full rate (both pointers wrap past their top bit and back), and
@@ -91,6 +92,6 @@ async def test_deep_fill_and_wrap(dut) -> None:
     assert tb.delivered == word == 2 * cap + 1100
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_fifo(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_fifo(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_fifo", __file__, BUILDS[build], build)

@@ -16,16 +16,17 @@ stepped as many clocks.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 from bsd_protocol import HB_DOWN, HB_UNIT_TICKS, HB_UP
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_heartbeat", {"hb0": {"HB_RATE": 0}, "hb1": {"HB_RATE": 1},
-                                           "hb3": {"HB_RATE": 3}}, quick=on("icarus"))
+BUILDS = {"hb0": {"HB_RATE": 0}, "hb1": {"HB_RATE": 1},
+                                           "hb3": {"HB_RATE": 3}}
 
 
 class HbModel:
@@ -125,7 +126,7 @@ class HbTB(ClockedTB):
         return await self.step(answer_i=1, answer_down_i=int(typ == HB_DOWN), **kw)
 
 
-@SUITE.test("hb1", "hb3")
+@cocotb.test(skip=not runner.on("hb1", "hb3"))
 async def test_period_and_alternation(dut) -> None:
     """The first heartbeat one period (HB_RATE x 16 000 ticks) after reset, on that very
     tick and not before; then UP, DOWN, UP ... each a period later; ticks, not clocks, count."""
@@ -153,7 +154,7 @@ async def test_period_and_alternation(dut) -> None:
     assert tb.model.due_count == 4 and period == tb.model.period
 
 
-@SUITE.test("hb1")
+@cocotb.test(skip=not runner.on("hb1"))
 async def test_link_up_rules(dut) -> None:
     """link_up: 0 after reset; 1 from an answer of the latest heartbeat's type; an answer of
     the other type, or before any heartbeat, does nothing; 0 when a heartbeat falls due while
@@ -193,7 +194,7 @@ async def test_link_up_rules(dut) -> None:
     assert (await tb.step())["link_up_o"] == 0
 
 
-@SUITE.test("hb1", "hb3")
+@cocotb.test(skip=not runner.on("hb1", "hb3"))
 async def test_skip_when_unsent(dut) -> None:
     """A heartbeat that falls due while the previous one still waits (no done) is skipped:
     no second request, no type toggle, link_up goes to 0 even if answered."""
@@ -217,7 +218,7 @@ async def test_skip_when_unsent(dut) -> None:
     assert (out["req_o"], out["type_o"]) == (1, HB_UP)
 
 
-@SUITE.test("hb0")
+@cocotb.test(skip=not runner.on("hb0"))
 async def test_rate_zero(dut) -> None:
     """HB_RATE = 0: no heartbeat ever, link_up stays 0 whatever the answers."""
     tb = HbTB(dut)
@@ -230,7 +231,7 @@ async def test_rate_zero(dut) -> None:
             assert out["link_up_o"] == 0
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut) -> None:
     """Around many due heartbeats: random ticks, answers of either type, done pulses (only
     while a heartbeat waits) and rare resets, the model checked on every clock; the long
@@ -253,6 +254,6 @@ async def test_random_vs_model(dut) -> None:
         assert tb.model.due_count >= 6
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_heartbeat(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_heartbeat(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_heartbeat", __file__, BUILDS[build], build)

@@ -17,18 +17,19 @@ every output packet either the next stream packet or the message, one done_o per
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from bsd_protocol import CMD_MSG, MSG_CMD_Q_OVERFLOW, MSG_CONFIG_ERR, MSG_N
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_msg_merge", {
+BUILDS = {
     "a2-qovf": {"MODULE_ADDR": 2, "CODE": f"8'd{MSG_CMD_Q_OVERFLOW}"},
     "a254-cfgerr": {"MODULE_ADDR": 254, "CODE": f"8'd{MSG_CONFIG_ERR}"},
-}, quick=on("icarus"))
+}
 
 
 class MergeModel:
@@ -149,7 +150,7 @@ class MergeTB(ClockedTB):
         return len(msgs)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_message_alone(dut) -> None:
     """With an idle stream the message goes out at once, whole, the stream held meanwhile;
     done_o with its last handshake; stalls in the middle hold it."""
@@ -164,7 +165,7 @@ async def test_message_alone(dut) -> None:
     tb.check_stream()
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_between_packets(dut) -> None:
     """A message requested while a stream packet is part-way out waits for its tlast, then
     goes before the next packet; a byte gap inside the packet does not let it in."""
@@ -183,7 +184,7 @@ async def test_between_packets(dut) -> None:
     tb.check_stream()
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_stalled_byte_not_switched(dut) -> None:
     """A stream byte offered while m_axis_tready is 0 stays on m_axis: a message requested
     meanwhile waits for the next boundary."""
@@ -209,7 +210,7 @@ async def test_stalled_byte_not_switched(dut) -> None:
     tb.check_stream()
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut) -> None:
     """Random packets, gaps, back-pressure and message requests, model checked every clock."""
     tb = MergeTB(dut)
@@ -233,6 +234,6 @@ async def test_random_vs_model(dut) -> None:
     assert msgs >= 10, f"only {msgs} messages"
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_msg_merge(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_msg_merge(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_msg_merge", __file__, BUILDS[build], build)

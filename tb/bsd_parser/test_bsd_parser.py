@@ -38,9 +38,9 @@ from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD, KIND_PROBE,
                           KIND_SERIAL, MAX_N)
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
 from seeding import make_rng
-from suite import Suite, on
 
 PERIOD_NS = 10
 
@@ -50,7 +50,6 @@ BUILDS = {
 }
 TIMED = [b for b, p in BUILDS.items() if p["RX_TIMEOUT_US"]]
 UNTIMED = [b for b, p in BUILDS.items() if not p["RX_TIMEOUT_US"]]
-SUITE = Suite(__file__, "bsd_parser", BUILDS, quick=on("icarus"))
 
 MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", DEFAULT_MODULE_ADDR))
 RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", DEFAULT_RX_TIMEOUT_US))
@@ -227,7 +226,7 @@ OTHER_ADDRS = [a for a in (0, 1, 3, 4, 0x7F, 0x80, 0xAC, 0xAE, 0xFE, 0xFF)
                if a != MODULE_ADDR]  # fmt: skip
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_own_packets(dut):
     """Own-address packets of N = 1..8: KIND_CMD with N and the first three data bytes."""
     tb = ParserTB(dut)
@@ -242,7 +241,7 @@ async def test_own_packets(dut):
         assert d[: min(n, 3)] == data[:3]
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_other_addresses_silent(dut):
     """Other addresses (and 0xAD with N > 0) are consumed silently, byte for byte:
     a packet to A right behind them is framed correctly."""
@@ -258,7 +257,7 @@ async def test_other_addresses_silent(dut):
             assert pkts[0][:2] == (KIND_CMD, 2) and pkts[0][2][:2] == [0x1B, 0x80], pkts
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_probe_and_empty(dut):
     tb = ParserTB(dut)
     await tb.reset()
@@ -271,7 +270,7 @@ async def test_probe_and_empty(dut):
     assert [p[:2] for p in pkts] == [(KIND_PROBE, 0), (KIND_PROBE, 0)], pkts
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_length_over_8(dut):
     """N > 8: KIND_SERIAL only for the own address; the next byte is an address."""
     tb = ParserTB(dut)
@@ -289,7 +288,7 @@ async def test_length_over_8(dut):
             assert pkts[0][2][0] == 0x63, pkts
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_back_to_back_full_rate(dut):
     """hold_i = 0 and tvalid always 1: one byte per clock, tready never drops."""
     tb = ParserTB(dut)
@@ -310,7 +309,7 @@ async def test_back_to_back_full_rate(dut):
     assert len(tb.pkts) > 25
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_hold_stalls_only_reply_capable_packets(dut):
     """With hold_i = 1, tready is 0 exactly for the last data byte of a packet to A and
     for the byte after a length byte that ended a packet with a reply (0xAD with N = 0,
@@ -364,7 +363,7 @@ async def test_hold_stalls_only_reply_capable_packets(dut):
 TIMEOUT_EVERY = [1, 8] if T_TICKS and T_TICKS < 200 else [1]
 
 
-@SUITE.test(*TIMED)
+@cocotb.test(skip=not runner.on(*TIMED))
 @cocotb.parametrize(every=TIMEOUT_EVERY, late=[0, 1])
 async def test_inter_byte_timeout(dut, every, late):
     """A partial packet survives T_TICKS - 1 idle ticks and is dropped by the
@@ -410,7 +409,7 @@ async def test_inter_byte_timeout(dut, every, late):
         await tb.reset()  # clean framing for the next partial
 
 
-@SUITE.test(*TIMED)
+@cocotb.test(skip=not runner.on(*TIMED))
 async def test_timeout_not_while_stalled(dut):
     """Ticks while tready is 0 (hold; tvalid high or low) never count; idle ticks
     before and after a stall add up."""
@@ -446,7 +445,7 @@ async def test_timeout_not_while_stalled(dut):
     assert [p[0] for p in tb.pkts] == [KIND_PROBE], tb.pkts
 
 
-@SUITE.test(*UNTIMED)
+@cocotb.test(skip=not runner.on(*UNTIMED))
 async def test_no_timeout_when_zero(dut):
     """RX_TIMEOUT_US = 0: a partial packet waits forever."""
     tb = ParserTB(dut)
@@ -457,7 +456,7 @@ async def test_no_timeout_when_zero(dut):
     assert [p[:2] for p in pkts] == [(KIND_CMD, 2)] and pkts[0][2][:2] == [0x1A, 3], pkts
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_reset_mid_packet(dut):
     tb = ParserTB(dut)
     await tb.reset()
@@ -467,7 +466,7 @@ async def test_reset_mid_packet(dut):
     assert [p[0] for p in pkts] == [KIND_PROBE], pkts
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_stream_vs_model(dut):
     """Random byte streams (well-formed and garbage), random tvalid gaps, hold_i and
     tick_i; tready and every packet compared with FramingModel on every clock.
@@ -525,6 +524,6 @@ async def test_random_stream_vs_model(dut):
         assert tb.model.drops > 5, "random stimulus hardly reached the inter-byte timeout"
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_parser(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_parser(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_parser", __file__, BUILDS[build], build)

@@ -11,16 +11,16 @@ exactly on its packet's last handshake; an item is taken only when offered, neve
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from bsd_protocol import CMD_DEV_VAL, CMD_HB
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_pkt_tx", {"a2": {"MODULE_ADDR": 2}, "a254": {"MODULE_ADDR": 254}},
-              quick=on("verilator"))
+BUILDS = {"a2": {"MODULE_ADDR": 2}, "a254": {"MODULE_ADDR": 254}}
 TIMER, REPLY, HB = 0, 1, 2
 
 
@@ -116,7 +116,7 @@ async def run_items(tb: TxTB, items: list[tuple], p_ready: float) -> None:
     assert [g.hex() for g in got] == [e[0].hex() for e in expect]
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_every_kind_in_order(dut) -> None:
     """Timer results, replies of every N (0..8) and heartbeats, in item order, always ready:
     packets back to back (the next item taken on the last handshake)."""
@@ -131,7 +131,7 @@ async def test_every_kind_in_order(dut) -> None:
     await run_items(tb, items, 1.0)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_backpressure(dut) -> None:
     """200 random items under random backpressure: every packet whole and unchanged while
     stalled, done pulses exactly on last handshakes."""
@@ -147,6 +147,6 @@ async def test_random_backpressure(dut) -> None:
     await run_items(tb, items, 0.6)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_pkt_tx(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
+def test_bsd_pkt_tx(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_pkt_tx", __file__, BUILDS[build], build)

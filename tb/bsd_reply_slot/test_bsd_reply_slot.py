@@ -18,14 +18,15 @@ bsd_exec (stage 2 one clock after the packet, with a random decision) and the co
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from bsd_protocol import CMD_MSG, MSG_N, MSG_STATE_POWER_RESET
 from clocked_tb import ClockedTB
-from suite import Suite, on
+import runner
 
-SUITE = Suite(__file__, "bsd_reply_slot", {"default": {}}, quick=on("icarus"))
+BUILDS = {"default": {}}
 POWER_UP = (MSG_N, [CMD_MSG, MSG_STATE_POWER_RESET])
 
 
@@ -104,7 +105,7 @@ class SlotTB(ClockedTB):
         return [(out["rep_data_o"] >> (24 - 8 * j)) & 0xFF for j in range(out["rep_n_o"])]
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_power_up_message(dut) -> None:
     """After reset the slot holds `0x80, statePowerReset` and requests it, hold_o is 1 until
     it has left; then the slot is free and hold_o 0."""
@@ -127,7 +128,7 @@ async def free(tb: SlotTB) -> None:
     await tb.step()
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_reply_latency_and_hold(dut) -> None:
     """pkt_valid_i raises hold_o at once; stage 2's reply is requested on the next clock
     with its packet, held (and hold_o with it) until rep_done_i; a packet without a reply
@@ -152,7 +153,7 @@ async def test_reply_latency_and_hold(dut) -> None:
     assert holds == [1, 1, 0], holds
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_rflx_value(dut) -> None:
     """A DIG_IO RFLX value is an event of exactly the clock after dio_rflx_i, with its ID
     and level, and holds nothing: hold_o only for the packet's two stages."""
@@ -168,7 +169,7 @@ async def test_rflx_value(dut) -> None:
         assert (await tb.step())["dio_new_o"] == 0
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_system_random(dut) -> None:
     """The parser hands a packet only while hold_o is 0, stage 2 follows a clock later with
     a random reply and/or RFLX value, the transmitter takes replies after random delays:
@@ -217,6 +218,6 @@ async def test_system_random(dut) -> None:
     assert len(got_rep) > 150 and len(got_dio) > 50, (len(got_rep), len(got_dio))
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_reply_slot(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_reply_slot(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_reply_slot", __file__, BUILDS[build], build)

@@ -10,14 +10,15 @@ from __future__ import annotations
 
 from collections import deque
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_sync", {"w1": {"WIDTH": 1}, "w7": {"WIDTH": 7}}, quick=on("icarus"))
+BUILDS = {"w1": {"WIDTH": 1}, "w7": {"WIDTH": 7}}
 
 
 class SyncTB(ClockedTB):
@@ -42,7 +43,7 @@ class SyncTB(ClockedTB):
             assert outputs["q_o"] == want, f"q_o {outputs['q_o']:#x}, expected {want:#x} (2 clocks late)"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_two_clock_latency(dut) -> None:
     """Random levels every clock: q_o shows each level from the second edge after it."""
     tb = SyncTB(dut)
@@ -50,7 +51,7 @@ async def test_two_clock_latency(dut) -> None:
         await tb.step(d_i=tb.rng.getrandbits(tb.width))
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_asynchronous_changes(dut) -> None:
     """A level that changes at any instant within a clock is on q_o from the second rising
     edge after the change, and the old level until then."""
@@ -73,6 +74,6 @@ async def test_asynchronous_changes(dut) -> None:
         await FallingEdge(tb.clk)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_sync(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_sync(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_sync", __file__, BUILDS[build], build)

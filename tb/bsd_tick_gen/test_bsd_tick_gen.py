@@ -17,6 +17,7 @@ long-run drift check (1 s of clock time) is test_bsd_tick_gen_drift.py.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.clock import Clock
 from cocotb.simtime import get_sim_time
@@ -28,9 +29,9 @@ from cocotb.triggers import (
     with_timeout,
 )
 
+import runner
 from runner import hdl_params, test_args
 from seeding import make_rng
-from suite import Suite, on
 
 PERIOD_NS = 10
 
@@ -51,8 +52,6 @@ BUILDS = {f"clk{c}-rate{r}": {"CLK_HZ": c, "RATE_HZ": r} for c, r, _ in CASES}
 STROBES = {f"clk{c}-rate{r}": n for c, r, n in CASES}
 RATED = [b for b, p in BUILDS.items() if p["RATE_HZ"]]
 UNRATED = [b for b, p in BUILDS.items() if not p["RATE_HZ"]]
-
-SUITE = Suite(__file__, "bsd_tick_gen", BUILDS, quick=on("icarus"))
 
 
 def now_ns() -> int:
@@ -108,7 +107,7 @@ class TickGenTB:
             assert m == n + 1, f"strobe {k} is {m - n} clocks wide, expected 1"
 
 
-@SUITE.test(*RATED, args=lambda sim, build: {"strobes": STROBES[build]})
+@cocotb.test(skip=not runner.on(*RATED))
 async def test_phase_every_strobe(dut):
     """Every strobe one clock wide, at clock ceil(k*CLK/RATE) for all k of the run."""
     tb = TickGenTB(dut)
@@ -119,7 +118,7 @@ async def test_phase_every_strobe(dut):
     )
 
 
-@SUITE.test(*RATED)
+@cocotb.test(skip=not runner.on(*RATED))
 async def test_reset_mid_run_restarts_phase(dut):
     """A reset at a random clock restarts the phase grid from the new edge 0."""
     tb = TickGenTB(dut)
@@ -133,7 +132,7 @@ async def test_reset_mid_run_restarts_phase(dut):
         await tb.collect(t0, 20)
 
 
-@SUITE.test(*UNRATED)
+@cocotb.test(skip=not runner.on(*UNRATED))
 async def test_rate_zero_every_clock(dut):
     """RATE_HZ = 0: tick_o is 1 on every clock from edge 1 on, 0 in reset."""
     tb = TickGenTB(dut)
@@ -147,6 +146,6 @@ async def test_rate_zero_every_clock(dut):
         await RisingEdge(dut.clk)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_tick_gen(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_tick_gen(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_tick_gen", __file__, BUILDS[build], build, args={"strobes": STROBES[build]})

@@ -11,17 +11,18 @@ fewest clocks per tick the core allows), T is driven as bsd_timer_bank's count.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
 # t12: a scanner lap of 12 clocks, a multiple of the 3-clock tick period, so the same timers
 # meet the slot-clearing clock on every lap (an insert that lost the write port must wait).
-SUITE = Suite(__file__, "bsd_timeout_wheel", {"t4": {"NUM_TIMERS": 4}, "t12": {"NUM_TIMERS": 12}},
-              quick=on("verilator"))
+# t12-deep: the same build, for the runs make test leaves to make test-full.
+BUILDS = {"t4": {"NUM_TIMERS": 4}, "t12": {"NUM_TIMERS": 12}, "t12-deep": {"NUM_TIMERS": 12}}
 TIMEOUT = 65535
 
 
@@ -70,7 +71,7 @@ class WheelTB(ClockedTB):
 
 
 # The 12-timer build's run of it is deep (make test-full): make test keeps the 4-timer one.
-@SUITE.test(deep=lambda sim, b: b == "t12")
+@cocotb.test(skip=not runner.on("t4", "t12-deep"))
 async def test_timeouts_and_restarts(dut) -> None:
     """Timers started at random clocks time out exactly on their 65 535th tick; others
     complete early, some a few ticks before their timeout (inside the wheel's window, after
@@ -109,7 +110,7 @@ async def test_timeouts_and_restarts(dut) -> None:
     assert tb.timeouts >= 2 and tb.races >= 2, (tb.timeouts, tb.races)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_all_at_once(dut) -> None:
     """Every timer started on consecutive clocks (so several share a tick): all of them
     time out, each on its own tick, none early or late."""
@@ -123,6 +124,6 @@ async def test_all_at_once(dut) -> None:
     assert tb.timeouts == n
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_timeout_wheel(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator", deep=["t12-deep"]))
+def test_bsd_timeout_wheel(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_timeout_wheel", __file__, BUILDS[build], build)

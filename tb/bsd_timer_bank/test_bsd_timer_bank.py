@@ -14,14 +14,14 @@ compared with the model on every clock.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from clocked_tb import ClockedTB
+import runner
 from runner import hdl_params
-from suite import Suite, on
 
-SUITE = Suite(__file__, "bsd_timer_bank", {"t4": {"NUM_TIMERS": 4}, "t64": {"NUM_TIMERS": 64}},
-              quick=on("verilator"))
+BUILDS = {"t4": {"NUM_TIMERS": 4}, "t64": {"NUM_TIMERS": 64}}
 
 
 class BankModel:
@@ -144,7 +144,7 @@ async def random_run(tb: BankTB, clocks: int, p_level: float, p_expire: float) -
     return seen
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut) -> None:
     """Random pads, starts, ticks, expiries and deliveries: every output equals the model
     on every clock, and every outcome (edge, width, timeout, delivery) happens."""
@@ -154,7 +154,7 @@ async def test_random_vs_model(dut) -> None:
     assert all(v > 5 for v in seen.values()), seen
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_busy_until_delivered(dut) -> None:
     """A timer stays busy after it finishes until its packet has left (host_done_i) and its
     strobe was given (rflx_done_i), in either order; with neither bit until it finishes."""
@@ -177,7 +177,7 @@ async def test_busy_until_delivered(dut) -> None:
         await tb.step(level_i=0)
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_completion_wins_on_timeout_clock(dut) -> None:
     """A completion on the clock its timeout expires is a completion (timed_out_o 0)."""
     tb = BankTB(dut)
@@ -189,6 +189,6 @@ async def test_completion_wins_on_timeout_clock(dut) -> None:
     assert out["ev_f_o"] & 0b11 == 0b11 and out["timed_out_o"] & 0b11 == 0b10
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_timer_bank(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
+def test_bsd_timer_bank(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_timer_bank", __file__, BUILDS[build], build)

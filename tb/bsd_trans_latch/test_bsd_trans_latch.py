@@ -14,9 +14,9 @@ import pytest
 
 from clocked_tb import ClockedTB
 from seeding import make_rng
-from suite import Suite, on
+import runner
 
-SUITE = Suite(__file__, "bsd_trans_latch", quick=on("icarus"))
+BUILDS = {"default": {}}
 
 PERIOD_NS = 10
 
@@ -89,7 +89,7 @@ class LatchTB(ClockedTB):
 TRG = cocotb.parametrize(trg=[0, 1])
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 async def test_fires_once_in_trg_direction(dut, trg):
     tb = LatchTB(dut)
@@ -109,7 +109,7 @@ async def test_fires_once_in_trg_direction(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 async def test_opposite_direction_never_fires(dut, trg):
     tb = LatchTB(dut)
@@ -120,7 +120,7 @@ async def test_opposite_direction_never_fires(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 async def test_present_level_never_fires(dut, trg):
     """Arming takes the current level: a level already at TRG never fires by itself."""
@@ -132,7 +132,7 @@ async def test_present_level_never_fires(dut, trg):
         assert await tb.steps(20) == [0] * 20
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 async def test_arm_on_matching_edge_clock(dut, trg):
     """DESIGN.md decision 5: arm on the clock of a matching edge wins, nothing fires."""
@@ -146,7 +146,7 @@ async def test_arm_on_matching_edge_clock(dut, trg):
     assert await tb.step(level_i=trg) == 1
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 @cocotb.parametrize(gate=["ena_i", "input_i", "sample_i"])
 async def test_no_fire_while_gated(dut, trg, gate):
@@ -164,7 +164,7 @@ async def test_no_fire_while_gated(dut, trg, gate):
     assert await tb.step(level_i=trg) == 1
 
 
-@SUITE.test()
+@cocotb.test()
 @TRG
 async def test_sampled_only_on_sample_strobes(dut, trg):
     """With sample_i a strobe every 5th clock, fire_o comes on the first strobe after
@@ -191,7 +191,7 @@ async def test_sampled_only_on_sample_strobes(dut, trg):
     assert got == [0, 1, 0, 0], f"fire_o per clock {got}"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_reset_disarms(dut):
     tb = LatchTB(dut)
     await tb.reset()
@@ -202,7 +202,7 @@ async def test_reset_disarms(dut):
     assert await tb.steps(5, level_i=0) == [0] * 5
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_random_vs_model(dut):
     """Random input sequences, fire_o compared with LatchModel on every clock."""
     tb = LatchTB(dut)
@@ -234,6 +234,6 @@ async def test_random_vs_model(dut):
     assert fires > 20, "random stimulus too weak: hardly any fires"
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_trans_latch(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_trans_latch(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_trans_latch", __file__, BUILDS[build], build)

@@ -12,11 +12,9 @@ import pytest
 from cocotb.triggers import ReadOnly, RisingEdge, Timer
 from cocotbext.uart import UartSource
 
-from suite import Suite, on
 from uart_line import LineMonitor, drive_frame, drive_low, now_ps, quiet_uart_logs
 from uart_unit import BAUD, BIT_PS, BUILDS, DIV, FRAME_PS, PERIOD_PS, idle, rng_for, start_clock_and_reset
-
-SUITE = Suite(__file__, "bsd_uart_rx", BUILDS, quick=on("icarus"))
+import runner
 
 
 class RxCollector:
@@ -52,7 +50,7 @@ async def rx_setup(dut) -> tuple[RxCollector, random.Random]:
     return RxCollector(dut), rng
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_rx_bytes(dut) -> None:
     """Back-to-back bytes at the nominal rate: all received, none flagged, and each valid_o
     strobe comes at the middle of the stop bit (+ the 2-flop synchronizer's latency)."""
@@ -78,7 +76,7 @@ async def test_rx_bytes(dut) -> None:
             f"valid_o {clocks:.2f} clocks after the stop bit's middle (expected 2..3)")
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_rx_baud_mismatch(dut) -> None:
     """A host 2 % (and 3 %) slower or faster than the receiver, bytes back to back: every
     byte received, no framing error."""
@@ -98,7 +96,7 @@ async def test_rx_baud_mismatch(dut) -> None:
         assert not col.errors, f"host at {factor:.2f} x BAUD: framing errors"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_rx_glitch(dut) -> None:
     """Low pulses shorter than half a bit (1 clock .. 0.45 bit) are not start bits: no byte,
     no error, and a real frame right after is received. A 0.7-bit pulse is a start bit
@@ -121,7 +119,7 @@ async def test_rx_glitch(dut) -> None:
     assert col.data == bytes([0x3C, 0x00, 0xFF]) and not col.errors, col.data.hex()
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_rx_framing(dut) -> None:
     """A frame whose stop bit is 0 is dropped with one frame_err_o strobe; a break (line low
     for 3 frames) gives exactly one error and no bytes; the receiver resynchronizes on the
@@ -151,6 +149,6 @@ async def test_rx_framing(dut) -> None:
     assert col.data == bytes([0x5A, 0xC3, byte]) and len(col.errors) == 3, (col.data.hex(), col.errors)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_uart_rx(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_uart_rx(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_uart_rx", __file__, BUILDS[build], build)

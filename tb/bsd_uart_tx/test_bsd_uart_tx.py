@@ -8,15 +8,14 @@ from __future__ import annotations
 
 import random
 
+import cocotb
 import pytest
 from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge, Timer
 from cocotbext.uart import UartSink
 
-from suite import Suite, on
 from uart_line import LineMonitor, now_ps, quiet_uart_logs
 from uart_unit import BAUD, BIT_PS, BUILDS, DIV, FRAME_PS, PERIOD_PS, rng_for, start_clock_and_reset
-
-SUITE = Suite(__file__, "bsd_uart_tx", BUILDS, quick=on("icarus"))
+import runner
 
 
 class TxDriver:
@@ -59,7 +58,7 @@ def check_monitor(mon: LineMonitor, data: bytes, what: str) -> None:
     assert mon.data == data, f"{what}: line carried {mon.data.hex()} sent {data.hex()}"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_tx_back_to_back(dut) -> None:
     """Bytes offered back to back leave at the full line rate: frames exactly 10 bit times
     apart, the first one a clock after its handshake; good start and stop bits; the line
@@ -86,7 +85,7 @@ async def test_tx_back_to_back(dut) -> None:
     assert dut.tx_o.value == 1 and dut.s_axis_tready.value == 1
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_tx_gaps(dut) -> None:
     """Bytes with random idle gaps: each frame starts on its handshake's clock edge, the line
     is high between frames, and s_axis_tready is 0 exactly while a frame is on the line
@@ -103,7 +102,7 @@ async def test_tx_gaps(dut) -> None:
         assert drv.handshakes[k] - drv.handshakes[k - 1] >= FRAME_PS, "a byte taken mid-frame"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_tx_baud_mismatch(dut) -> None:
     """Receivers 2 % (and 3 %) slower or faster than the transmitter read every byte of a
     back-to-back stream, stop bits included (strict monitors and cocotbext-uart sinks)."""
@@ -119,7 +118,7 @@ async def test_tx_baud_mismatch(dut) -> None:
         assert bytes(sink.read_nowait()) == data, f"UartSink at {f:.2f} x BAUD"
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_tx_reset_mid_frame(dut) -> None:
     """rst in the middle of a frame: the line goes high (idle) at once and the next byte is
     sent whole."""
@@ -146,6 +145,6 @@ async def test_tx_reset_mid_frame(dut) -> None:
     assert mon.data[n_before:] == bytes([byte]), mon.data.hex()
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_bsd_uart_tx(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))
+def test_bsd_uart_tx(sim: str, build: str) -> None:
+    runner.run(sim, "bsd_uart_tx", __file__, BUILDS[build], build)

@@ -10,14 +10,15 @@ test`: at 9600 baud (the bitstream's build) on Verilator, at 115 200 baud on Ica
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 from cocotb.triggers import ClockCycles, Timer
 
 from board_top import Board, BoardLink
 from bsd_model import (CMD_DIG_CFG, CMD_DIG_IO, CMD_PTIME_RD, DEVCODE_HOST, DIGCFG_IODIR, DIGCFG_TMODE, Params,
                        packet, tick_tolerance, ticks_of)
+import runner
 from runner import hdl_params
-from suite import Suite
 from uart_line import now_ps
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
@@ -27,13 +28,12 @@ PINS = 24
 # Build names of their own: the 5-pin top's tests build the same toplevel.
 BUILDS = {f"p24b{baud}": {"CLK_HZ": BOARD.clk_hz, "BAUD": baud, "NUM_PINS": PINS, "TIMER_MASK": f"{PINS}'hffffff"}
           for baud in (9600, 115_200)}
-SUITE = Suite(__file__, BOARD.top, BUILDS, sources=BOARD.sources())
 READ_PIN = 12          # P1B3
 TIMED_PIN = 23         # P2_10
 PULSE_S = 2e-3
 
 
-@SUITE.test(only=lambda sim, build: (sim, build) in (("verilator", "p24b9600"), ("icarus", "p24b115200")))
+@cocotb.test()
 async def test_board24_session(dut) -> None:
     """Power-up, a DIG_IO read on PMOD 1B, a width timer on PMOD 2 against a 2 ms pulse."""
     hdl = hdl_params()
@@ -76,6 +76,7 @@ async def test_board24_session(dut) -> None:
                   PULSE_S * 1e3, now_ps() / 1e9)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_icebreaker24_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(
+    BUILDS, only=lambda sim, build: (sim, build) in (("verilator", "p24b9600"), ("icarus", "p24b115200"))))
+def test_icebreaker24_top(sim: str, build: str) -> None:
+    runner.run(sim, BOARD.top, __file__, BUILDS[build], build, sources=BOARD.sources())

@@ -8,23 +8,24 @@ Icarus.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from board_top import Board, builds, session, one_build_per_sim
-from suite import Suite
+import runner
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
               pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
               led_active_low=True, extra_sources=())
-SUITE = Suite(__file__, BOARD.top, builds(BOARD), sources=BOARD.sources())
+BUILDS = builds(BOARD)
 
 
-@SUITE.test(only=one_build_per_sim)
+@cocotb.test()
 async def test_board_session(dut) -> None:
     """Power-up message, a pin read, pin 0 driven low/high/low through its pad, LEDs."""
     await session(dut, BOARD)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_icebreaker_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, only=one_build_per_sim))
+def test_icebreaker_top(sim: str, build: str) -> None:
+    runner.run(sim, BOARD.top, __file__, BUILDS[build], build, sources=BOARD.sources())

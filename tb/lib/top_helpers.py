@@ -3,7 +3,7 @@
 checked reset, pad changes checked against the model, timer runs and their results.
 
 `P` is the parameter set the simulation was built with (runner.hdl_params()); each test
-names the builds it needs (tb/lib/suite.py), and `need` fails loudly if one runs anyway on a
+names the builds it needs (`@cocotb.test(skip=not runner.on(...))`), and `need` fails loudly if one runs anyway on a
 build that lacks what it needs.
 """
 

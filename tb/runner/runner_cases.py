@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""cocotb tests the runner's own tests select from (tb/runner/test_runner.py)."""
+"""cocotb tests for the runner's own tests: one fails, one is skipped (tb/runner/test_runner.py)."""
 
 from __future__ import annotations
 

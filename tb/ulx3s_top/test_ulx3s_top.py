@@ -8,23 +8,24 @@ Icarus.
 
 from __future__ import annotations
 
+import cocotb
 import pytest
 
 from board_top import Board, builds, session, one_build_per_sim
-from suite import Suite, on
+import runner
 
 BOARD = Board(top="ulx3s_top", clk_hz=25_000_000, clk="clk_25mhz", rx="ftdi_txd", tx="ftdi_rxd", btn="btn_pwr_n",
               pads="gp", pad_model="BB", led_link=("led", 0), led_act=("led", 1),
               led_active_low=False, extra_sources=("board_status.v",))
-SUITE = Suite(__file__, BOARD.top, builds(BOARD), sources=BOARD.sources(), quick=on("icarus"))
+BUILDS = builds(BOARD)
 
 
-@SUITE.test(only=one_build_per_sim)
+@cocotb.test()
 async def test_board_session(dut) -> None:
     """Power-up message, a pin read, pin 0 driven low/high/low through its pad, LEDs."""
     await session(dut, BOARD)
 
 
-@pytest.mark.parametrize("case", SUITE.cases())
-def test_ulx3s_top(case) -> None:
-    SUITE.run(case)
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus", only=one_build_per_sim))
+def test_ulx3s_top(sim: str, build: str) -> None:
+    runner.run(sim, BOARD.top, __file__, BUILDS[build], build, sources=BOARD.sources())
