@@ -253,7 +253,7 @@ test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
 # make test's time on a fresh clone of HEAD (venv, pytest, builds per simulator, time per
 # test file) -> the test-time table of docs/benchmarks.md.
 test-time: $(STAMP)
-	$(VPY) sim/test_time.py --write --jobs $(JOBS)
+	$(VPY) sim/test_time.py --jobs $(JOBS)
 
 # make coverage: Verilator line, toggle and branch coverage of rtl/ over the regression's
 # Verilator cases (deep ones too), coverage builds in their own folders (`...-cov`), one data

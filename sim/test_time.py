@@ -3,7 +3,7 @@
 """Where `make test`'s time goes, on a fresh clone of HEAD: the venv, the pytest run, the
 builds per simulator and the time per test file.
 
-    .venv/bin/python sim/test_time.py [--jobs 2] [--write]   # --write: the table in docs/benchmarks.md
+    .venv/bin/python sim/test_time.py [--jobs 2]   # the table: printed and in sim/build/test_time.md
 
 A fresh clone measures what a new user (and CI) pays: the venv from PyPI and every build
 from cold, as in `git clone ... && make test`. The per-file times come from pytest's own
@@ -64,17 +64,16 @@ def fresh_clone_run(jobs: int) -> tuple[str, Path]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--write", action="store_true", help="fill the table in docs/benchmarks.md")
     ap.add_argument("--jobs", type=int, default=2, help="pytest-xdist workers (default 2)")
     args = ap.parse_args(argv)
     if args.jobs < 1:
         ap.error("--jobs must be at least 1")
     text, tmp = fresh_clone_run(args.jobs)
     print(f"fresh clone in {tmp}\n{text}")
-    if args.write:
-        import docregions
-
-        docregions.fill_file(ROOT / "docs" / "benchmarks.md", {"test-time": text})
+    out = ROOT / "sim" / "build" / "test_time.md"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text + "\n", encoding="utf-8")
+    print(f"written to {out.relative_to(ROOT)}")
     return 0
 
 
