@@ -16,7 +16,7 @@ A row:
     tests = ["tb/brainstem_dio/test_latch.py::test_rearm_meets_edge",   # a cocotb test
              "tb/model/test_model.py::test_latch_*",                    # pytest functions
              "host/tests/test_host_framing.py"]                         # a whole pytest file
-    proofs = ["bsd_trans_latch", "bsd_tick_gen/prove_clk2m"]            # formal/run.py JOBS
+    proofs = ["bsd_trans_latch", "bsd_tick_gen/prove_clk2m"]            # formal/<job>.sby [tasks]
     bins = ["latch", "timer:outcome=timeout", "command:cmd=DIG_IO,outcome=reply/cmdIndexErr"]
 
 Row ids name a part of a document, then optionally a topic (several rows may share a part):
@@ -41,7 +41,7 @@ check nothing on their own); (c) every name exists, found without running anythi
 - a pytest entry is a path (a file or folder of test_*.py files without cocotb tests), or
   `<file>::<function>` / `<file>::<Class>::<method>` (a `[params]` suffix is ignored), or a prefix
   ending in `*` (`<file>::test_table_*`) that matches at least one test function, also by `ast`;
-- a proof is a job, or `job/task`, of formal/run.py's JOBS (its literal, read with `ast`);
+- a proof is a job (formal/<job>.sby), or `job/task` (a task of its [tasks] section);
 - a bin is a coverpoint of tb/lib/fcov.py's COVERPOINTS, optionally `:axis=value[/value],...`;
   the pattern must match at least one bin that tools/fcov_unreachable.toml leaves reachable;
 (d) every cocotb test of tb/ is in at least one row (a new test forces a plan update); and that
@@ -90,7 +90,7 @@ class Layout:
     protocol: str = "docs/PROTOCOL.md"
     design: str = "docs/DESIGN.md"
     fpga: str = "docs/fpga.md"
-    formal_run: str = "formal/run.py"
+    formal: str = "formal"
     fcov: str = "tb/lib/fcov.py"
     unreachable: str = "tools/fcov_unreachable.toml"
     test_dirs: tuple[str, ...] = ("tb", "host/tests")
@@ -304,24 +304,17 @@ def find_tests(lay: Layout) -> Tests:
 # --------------------------------------------------------------------------- proofs, bins
 
 def formal_jobs(lay: Layout) -> list[tuple[str, str]]:
-    """(job, task) of formal/run.py's JOBS, read from its literal (nothing is imported)."""
-    rel = lay.formal_run
-    try:
-        tree = ast.parse(lay.path(rel).read_text(encoding="utf-8"), filename=rel)
-    except (OSError, SyntaxError) as e:
-        raise PlanError(f"{rel}: cannot be parsed: {e}") from None
-    for node in tree.body:
-        if not isinstance(node, (ast.Assign, ast.AnnAssign)) or node.value is None:
-            continue
-        target = node.target if isinstance(node, ast.AnnAssign) else (
-            node.targets[0] if len(node.targets) == 1 else None)
-        if isinstance(target, ast.Name) and target.id == "JOBS":
-            try:
-                jobs = ast.literal_eval(node.value)
-                return [(str(j[0]), str(j[1])) for j in jobs]
-            except (ValueError, TypeError, IndexError):
-                break
-    raise PlanError(f"{rel}: no literal `JOBS = [(job, task, fast), ...]` list")
+    """(job, task) of each formal/<job>.sby: the first word of each line of its [tasks] section."""
+    jobs, section = [], ""
+    for sby in sorted(lay.path(lay.formal).glob("*.sby")):
+        for line in sby.read_text(encoding="utf-8").splitlines():
+            if line.startswith("["):
+                section = f"{sby.stem}{line.strip()}"
+            elif section == f"{sby.stem}[tasks]" and line.split() and not line.startswith("#"):
+                jobs.append((sby.stem, line.split()[0]))
+    if not jobs:
+        raise PlanError(f"{lay.formal}/: no .sby file with a [tasks] section")
+    return jobs
 
 
 def coverpoints(lay: Layout) -> dict[str, tuple[tuple[str, tuple[str, ...]], ...]]:
@@ -512,7 +505,7 @@ def check(lay: Layout, rows: Sequence[Row], ctx: Context) -> list[str]:
         for proof in row.proofs:
             job = proof.split("/", 1)[0]
             if job not in jobs:
-                errors.append(f"{where}: unknown proof {proof!r}: {lay.formal_run} JOBS has no job {job!r} "
+                errors.append(f"{where}: unknown proof {proof!r}: {lay.formal}/ has no job {job!r} "
                               f"(jobs: {', '.join(sorted(jobs))})")
             elif "/" in proof and proof not in tasks:
                 errors.append(f"{where}: unknown proof {proof!r}: job {job} has the tasks "

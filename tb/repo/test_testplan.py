@@ -134,10 +134,13 @@ class TestGroup:
         pass
 '''
 
-RUN_PY = '''JOBS: list[tuple[str, str, bool]] = [
-    ("blk", "prove", True),
-    ("blk", "cover", False),
-]
+SBY = '''# a comment
+[tasks]
+prove
+cover
+
+[options]
+prove: mode prove
 '''
 
 GOOD_ROWS = '''
@@ -189,7 +192,7 @@ def make_repo(root: Path, rows: str = GOOD_ROWS) -> Layout:
         "docs/PROTOCOL.md": PROTOCOL,
         "docs/DESIGN.md": DESIGN,
         "docs/testplan.md": DOC,
-        "formal/run.py": RUN_PY,
+        "formal/blk.sby": SBY,
         "tb/blk/test_blk.py": BLOCK_TESTS,
         "tb/other/test_other.py": PLAIN_TESTS,
         "tools/testplan.toml": rows,
@@ -277,7 +280,7 @@ def test_a_row_for_no_section_is_caught(tmp_path):
 
 def test_unknown_proof_is_caught(tmp_path):
     lay = make_repo(tmp_path, GOOD_ROWS.replace('proofs = ["blk"]', 'proofs = ["bsd_parser"]'))
-    one_error(lay, "unknown proof 'bsd_parser'", "JOBS has no job 'bsd_parser' (jobs: blk)")
+    one_error(lay, "unknown proof 'bsd_parser'", "formal/ has no job 'bsd_parser' (jobs: blk)")
     lay = make_repo(tmp_path, GOOD_ROWS.replace('"blk/prove"', '"blk/prove_deep"'))
     one_error(lay, "unknown proof 'blk/prove_deep': job blk has the tasks prove, cover")
 
@@ -342,7 +345,7 @@ def test_unreachable_bins_are_fcov_reports():
 
 def test_a_proof_in_no_row_is_a_note_not_an_error(tmp_path, capsys):
     make_repo(tmp_path)
-    (tmp_path / "formal" / "run.py").write_text(RUN_PY.replace("]\n", '    ("blk2", "prove", True),\n]\n'))
+    (tmp_path / "formal" / "blk2.sby").write_text(SBY)
     assert testplan.main(["--write", "--root", str(tmp_path)]) == 0
     assert testplan.main(["--check", "--root", str(tmp_path)]) == 0
     out = capsys.readouterr().out
