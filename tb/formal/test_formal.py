@@ -14,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 STAMP = ROOT / ".venv" / ".formal-installed"
-MAKE = ["make", "-s", "--no-print-directory", "-C", str(ROOT), "-o", str(STAMP)]
+MAKE = ["make", "-s", "--no-print-directory", "-C", str(ROOT), "-o", ".venv/.formal-installed"]
 
 _lists = subprocess.run([*MAKE, "formal-list"], capture_output=True, text=True, check=True).stdout
 LISTS = {k: v.split() for k, v in (line.split(":", 1) for line in _lists.splitlines())}
