@@ -257,7 +257,7 @@ $(FORMAL_WORK)/%/config.sby: $(CORE_FILES) $(wildcard formal/*.vh formal/*.v) $(
 	@$(SBY) -f -d $(abspath $(@D)) --setup $(SBY_ARGS) > /dev/null
 	@cp $(CORE_FILES) $(@D)/src/ && echo "read_verilog -DSYNTHESIS -I. $(notdir $(RTL))" > $(@D)/src/core.ys
 $(FORMAL_WORK)/%/PASS: $(FORMAL_WORK)/%/config.sby
-	@$(SBY) -f $(abspath $(@D)) > /dev/null || { tail -n 30 $(@D)/logfile.txt; exit 1; }
+	@$(SBY) -f $(abspath $(@D)) > /dev/null || { tail -n 30 $(abspath $(@D))/logfile.txt; exit 1; }
 	@echo "$*: PASS ($$(sed -n 's/.*Elapsed clock time.*(\(.*\))/\1/p' $(@D)/logfile.txt) s)"
 
 formal: $(FORMAL_ALL:%=$(FORMAL_WORK)/%/PASS)
