@@ -4,7 +4,7 @@
 
 A row is `| **<id>**[<br>title] | what | tests | proofs | bins |`; tests are
 `` `file`: `name`, `name`<br>`file` `` (a cocotb file is named test by test; a pytest file or
-folder alone, or `name` / `Class::method` / `prefix*`), proofs formal/run.py JOBS (`job` or
+folder alone, or `name` / `Class::method` / `prefix*`), proofs the [tasks] of formal/<job>.sby (`job` or
 `job/task`), bins tb/lib/fcov.py COVERPOINTS (`point[:axis=v[/v],...]`, some bin reachable).
 Checked: every PROTOCOL.md `##`/`###` section with text of its own, every DESIGN.md decision
 and other section has a row and every id names one (`FPGA <heading>` optional); every row has
@@ -76,12 +76,18 @@ def scan_tests(root: Path) -> tuple[dict[str, list[str]], dict[str, list[str]]]:
 
 
 def formal_jobs(root: Path) -> set[str]:
-    """`job` and `job/task` of formal/run.py's literal JOBS (nothing is imported)."""
-    for node in ast.parse((root / "formal/run.py").read_text(encoding="utf-8")).body:
-        if isinstance(node, (ast.Assign, ast.AnnAssign)) and "JOBS" in ast.unparse(node).split("=")[0]:
-            jobs = ast.literal_eval(node.value)
-            return {str(j[0]) for j in jobs} | {f"{j[0]}/{j[1]}" for j in jobs}
-    raise ValueError("formal/run.py: no literal JOBS")
+    """`job` and `job/task` of each formal/<job>.sby (the first word of each [tasks] line)."""
+    out: set[str] = set()
+    for sby in sorted((root / "formal").glob("*.sby")):
+        section = ""
+        for line in sby.read_text(encoding="utf-8").splitlines():
+            if line.startswith("["):
+                section = line.strip()
+            elif section == "[tasks]" and line.split() and not line.startswith("#"):
+                out |= {sby.stem, f"{sby.stem}/{line.split()[0]}"}
+    if not out:
+        raise ValueError("formal/ has no .sby file with a [tasks] section")
+    return out
 
 
 def reachable_bins(root: Path) -> dict[str, tuple]:
@@ -144,7 +150,7 @@ def check(text: str, root: Path = ROOT) -> list[str]:
                 files.update(under)
             if why:
                 errors.append(f"{where}: unknown test {t!r}: {why}")
-        errors += [f"{where}: unknown proof {p!r} (formal/run.py JOBS)" for p in proofs if p not in jobs]
+        errors += [f"{where}: unknown proof {p!r} (no formal/<job>.sby task)" for p in proofs if p not in jobs]
         for b in bins:
             name, _, rest = b.partition(":")
             want = dict(kv.split("=", 1) for kv in rest.split(",") if "=" in kv)
