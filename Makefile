@@ -73,7 +73,7 @@ $(STAMP): requirements.txt host/pyproject.toml
 
 venv: $(STAMP)
 
-# Python: ruff (ruff.toml) over host/, tb/lib/, tools/, sim/ and conftest.py, and mypy --strict on
+# Python: ruff (ruff.toml) over host/, tb/lib/, tools/, sim/, synth/, formal/ and conftest.py, and mypy --strict on
 # the host library; then Verilator's lint of both tops.
 lint: $(STAMP)
 	@$(VENV)/bin/ruff check --quiet .

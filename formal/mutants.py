@@ -97,7 +97,7 @@ def run(job: str, task: str, fname: str, old: str, new: str) -> tuple[str, list[
         if text.count(old) != 1:
             raise SystemExit(f"{job} {task}: the mutant's text is not in {fname} exactly once")
         src.write_text(text.replace(old, new))
-        subprocess.run([*make, f"{work}/PASS"], capture_output=True)
+        subprocess.run([*make, f"{work}/PASS"], check=False, capture_output=True)
         log = (work / "logfile.txt").read_text().splitlines()
         failed = [ln.split("summary:")[-1].strip() for ln in log if "failed assertion" in ln or "Unreached" in ln]
         return (work / "status").read_text().split()[0], failed[:2]

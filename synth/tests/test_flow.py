@@ -17,7 +17,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import synth as flow  # noqa: E402
+import synth as flow
 
 # The utilization nextpnr-ice40 prints before it gives up on a design too big for the UP5K.
 TOO_BIG = """Info: Device utilisation:
