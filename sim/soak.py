@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import contextlib
 import datetime
 import os
 import random
@@ -269,11 +270,9 @@ def reader_alive() -> bool:
 def answering_after(m: brainstem_dio.Module, since: float, limit: float = 2.0) -> float | None:
     """Seconds from `since` to the first echo that comes back, or None if none in `limit`."""
     while time.monotonic() - since < limit:
-        try:
+        with contextlib.suppress(BrainStemError):
             if m.echo(b"\x5a", timeout=max(0.05, min(CALL_TIMEOUT, limit - (time.monotonic() - since)))) == b"\x5a":
                 return time.monotonic() - since
-        except BrainStemError:
-            pass
     return None
 
 
@@ -449,7 +448,6 @@ class Result:
     recovered: float | None
     checks: list[tuple[str, str | None]]
     failures: list[str]
-    seed: int
     retried: list[str] = field(default_factory=list)
     behind: list[str] = field(default_factory=list)  # the virtual module's reports of lag and stalls
 
@@ -490,7 +488,7 @@ def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Ca
         log(f"soak: seed {seed}; virtual module: {v.seed_line}")
         try:
             with brainstem_dio.open(v.port, A, timeout=CALL_TIMEOUT) as m:
-                return _run(m, v, random.Random(seed), seed, [("quiet", 0.0, baseline)] + [
+                return _run(m, v, random.Random(seed), [("quiet", 0.0, baseline)] + [
                     (f"BER {b:g}", b, calls) for b in bers], log)
         finally:
             v.stop()
@@ -500,7 +498,7 @@ def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Ca
                 log(f"soak: the virtual module's transcript: {transcript}")
 
 
-def _run(m: brainstem_dio.Module, v: Virtual, rng: random.Random, seed: int, plan: list[tuple[str, float, int]],
+def _run(m: brainstem_dio.Module, v: Virtual, rng: random.Random, plan: list[tuple[str, float, int]],
          log: Callable[[str], None]) -> Result:
     m.sync()
     soak, phases = Soak(m, v, rng), []
@@ -519,16 +517,14 @@ def _run(m: brainstem_dio.Module, v: Virtual, rng: random.Random, seed: int, pla
     v.ask("ber 0", r"\] ber 0 +line noise")
     recovered = answering_after(m, time.monotonic())
     for pin in range(NUM_PINS):  # what the noise left: every pin an input again
-        try:
+        with contextlib.suppress(BrainStemError):
             m.configure(pin)
-        except BrainStemError:
-            pass
     (checks := Checks(soak)).run()
     for name, why in checks.results:
         log(f"soak: check {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
     if not reader_alive():
         checks.results.append(("the library's reader thread alive after the checks", "dead"))
-    return Result(phases, recovered, checks.results, criteria(phases, recovered, checks.results), seed,
+    return Result(phases, recovered, checks.results, criteria(phases, recovered, checks.results),
                   checks.retried, v.err.find(r"^behind real time"))
 
 
