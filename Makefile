@@ -20,12 +20,10 @@ PYTEST_ARGS ?=
 	sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol \
 	protocol-check soak testplan
 
-# BSD_DEFAULT_*: the GP 1.0 parameter defaults, generated from tools/protocol.toml.
 include sim/bsd_protocol.mk
 
-# make sim [SCRIPT=path] [CLK_HZ MODULE_ADDR NUM_PINS TIMER_MASK PIN_ID_BASE TIMER_ID_BASE
-# TRANS_ID_BASE=decimal]: these go to the model (-G) and the runner's decoder (-D) alike, and
-# each set builds in its own folder.
+# make sim [SCRIPT=path] [SIM_PARAMS=decimal]: each goes to the model (-G) and the runner's
+# decoder (-D) alike; each set builds in its own folder.
 SIM_PARAMS    := CLK_HZ MODULE_ADDR NUM_PINS TIMER_MASK PIN_ID_BASE TIMER_ID_BASE TRANS_ID_BASE
 # The virtual module's own default clock, read before CLK_HZ gets its default.
 VIRTUAL_CLK_HZ := $(if $(filter undefined default,$(origin CLK_HZ)),2000000,$(CLK_HZ))
@@ -67,7 +65,6 @@ $(STAMP): requirements.txt host/pyproject.toml
 
 venv: $(STAMP)
 
-# ruff (ruff.toml), mypy --strict on the host library, Verilator's lint of both tops.
 lint: $(STAMP)
 	@$(VENV)/bin/ruff check --quiet .
 	@$(VENV)/bin/mypy --strict host/brainstem_dio
@@ -99,8 +96,6 @@ $(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
 
 bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 
-# Each simulator's speed, Callgrind's instructions per clock and the virtual module's ratio to
-# real time -> printed, and sim/build/{bench,virtual_bench}.{md,json}.
 # BENCH_ARGS: e.g. "--no-callgrind"; VIRTUAL_BENCH_ARGS: e.g. "--seconds 1".
 BENCH_ARGS ?=
 VIRTUAL_BENCH_ARGS ?=
@@ -210,7 +205,6 @@ test: lint $(FORMAL_STAMP)
 test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
 	$(PYTEST) -rsfE $(PYTEST_ARGS) tb host/tests synth/tests
 
-# make test's time on a fresh clone of HEAD.
 test-time: $(STAMP)
 	$(VPY) sim/test_time.py --jobs $(JOBS)
 
@@ -224,7 +218,6 @@ COVERAGE_ARGS ?=
 coverage: $(STAMP)
 	@$(WITH_VERILATOR) $(VPY) tools/coverage.py --jobs $(JOBS) $(COVERAGE_ARGS)
 
-# Checks docs/testplan.md against the tests, proofs, bins and the contract.
 testplan:
 	@$(PYTHON) tools/testplan.py
 
