@@ -1,17 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """Merge the functional-coverage files of simulator runs and report bins hit.
 
-Each top-level simulation run with $BSD_FCOV_DIR set writes one JSON file there
-(tb/lib/fcov.py). This tool merges them and prints, per coverpoint/cross, how many bins exist,
-how many are unreachable by construction (tools/fcov_unreachable.toml, each with its reason),
-and how many of the reachable ones were hit, then the unhit reachable bins.
-
-    tools/fcov_report.py --in DIR                 # print the table
-    tools/fcov_report.py --in DIR --check         # exit 1 if a reachable bin is unhit
-    tools/fcov_report.py --in DIR --md FILE       # also write the table to FILE (make coverage)
-
-Exit status: 0 fine; 1 --check failed (a reachable bin unhit, or a bin the list calls
-unreachable was hit); 2 bad arguments or input.
+Each simulation run with $BSD_FCOV_DIR set writes one JSON file there (tb/lib/fcov.py). Per
+coverpoint/cross: the bins, those unreachable by construction (tools/fcov_unreachable.toml, each
+with its reason), the reachable ones hit; then the unhit reachable bins. --md FILE also writes the
+table; --check exits 1 when a reachable bin is unhit or a bin listed unreachable was hit. Exit 2:
+bad arguments or input.
 """
 
 from __future__ import annotations
@@ -72,8 +66,8 @@ class PointSummary:
     bins: int
     unreachable: set[Bin]
     hit: set[Bin]
-    unhit: list[Bin]             # reachable and not hit
-    unreachable_hit: list[Bin]   # the rules call these unreachable, yet they were hit
+    unhit: list[Bin]  # reachable and not hit
+    unreachable_hit: list[Bin]  # the rules call these unreachable, yet they were hit
     rule_counts: list[tuple[Rule, int]]
 
     @property
@@ -120,8 +114,7 @@ def load_dir(directory: Path) -> Runs:
 
 
 def parse_rules(doc: Mapping[str, object], where: str = "<rules>", points: Mapping[str, Axes] = COVERPOINTS) -> list[Rule]:
-    raw = doc.get("rule", [])
-    if not isinstance(raw, list):
+    if not isinstance(raw := doc.get("rule", []), list):
         raise InputError(f"{where}: `rule` must be an array of tables")
     rules = []
     for i, r in enumerate(raw, 1):
@@ -132,21 +125,19 @@ def parse_rules(doc: Mapping[str, object], where: str = "<rules>", points: Mappi
             raise InputError(f"{w}: unknown coverpoint {r.get('coverpoint')!r}")
         if not isinstance(r.get("reason"), str) or not r["reason"].strip():
             raise InputError(f"{w}: every unreachable bin needs a reason")
-        axes = dict(points[r["coverpoint"]])
-        sets = []
+        axes, sets = dict(points[r["coverpoint"]]), []
         for spec in (r.get("match"), r.get("unless", {})):
             if not isinstance(spec, Mapping):
                 raise InputError(f"{w}: match/unless must be tables")
-            out = {}
+            sets.append({})
             for axis, v in spec.items():
                 vs = [v] if isinstance(v, str) else v
                 if axis not in axes or not isinstance(vs, list) or not vs or not all(x in axes[axis] for x in vs):
                     raise InputError(f"{w}: {axis} = {v!r}: not an axis of {r['coverpoint']} with values of it")
-                out[axis] = frozenset(vs)
-            sets.append(out)
+                sets[-1][axis] = frozenset(vs)
         if not sets[0]:
             raise InputError(f"{w}: empty match")
-        rules.append(Rule(r["coverpoint"], sets[0], sets[1], r["reason"]))
+        rules.append(Rule(r["coverpoint"], *sets, r["reason"]))
     return rules
 
 
@@ -187,10 +178,8 @@ def render(summary: Sequence[PointSummary], runs: Runs, max_unhit: int = 200) ->
     lines += ["", "Reachable bins not hit:", ""]
     unhit = [(s, b) for s in summary for b in s.unhit]
     lines += [f"- {s.name}: {', '.join(f'{a}={v}' for a, v in zip(s.axes, b))}" for s, b in unhit[:max_unhit]] or ["- none"]
-    if len(unhit) > max_unhit:
-        lines.append(f"- … and {len(unhit) - max_unhit} more")
-    wrong = [f"- {s.name}: {bin_key(b)}" for s in summary for b in s.unreachable_hit]
-    if wrong:
+    lines += [f"- … and {len(unhit) - max_unhit} more"] * (len(unhit) > max_unhit)
+    if wrong := [f"- {s.name}: {bin_key(b)}" for s in summary for b in s.unreachable_hit]:
         lines += ["", "Hit, yet listed as unreachable (the list is wrong):", "", *wrong]
     return "\n".join(lines) + "\n"
 

@@ -1,13 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Generate the protocol constants of brainstem_dio from tools/protocol.toml.
+"""Generate the protocol constants of brainstem_dio (OUTPUTS) from tools/protocol.toml.
 
-One table, one file per consumer (OUTPUTS: the RTL's `include, the session runner's header
-and make defaults, the host library's table, which tb/lib/bsd_protocol.py re-exports). The
-generated files are committed; `--check` (tb/protocol/test_protocol.py) fails when one is stale.
-
-    tools/gen_protocol.py            # regenerate (what `make protocol` runs)
-    tools/gen_protocol.py --check    # exit 1 and list the stale files, write nothing
+The generated files are committed; `--check` (make protocol-check, tb/protocol) writes nothing
+and exits 1 listing the stale ones. tb/lib/bsd_protocol.py re-exports the host library's table.
 """
 
 from __future__ import annotations
@@ -38,8 +34,8 @@ class TableError(Exception):
 @dataclass(frozen=True)
 class Command:
     code: int
-    name: str           # the contract's name, e.g. cmdDIG_CFG
-    sender: str         # host, core or both
+    name: str  # the contract's, e.g. cmdDIG_CFG
+    sender: str  # host, core or both
     min_n: int | None
     max_n: int | None
 
@@ -51,9 +47,9 @@ class Command:
 @dataclass(frozen=True)
 class Message:
     code: int
-    name: str           # the contract's name, e.g. statePowerReset
-    scope: str          # core, or uart (the serial wrapper's)
-    text: str           # the session transcript's wording
+    name: str  # the contract's, e.g. statePowerReset
+    scope: str  # core, or uart (the serial wrapper's)
+    text: str  # the session transcript's wording
 
     @property
     def const(self) -> str:
@@ -67,11 +63,11 @@ class Protocol:
     msg_n: int
     commands: list[Command]
     messages: list[Message]
-    digcfg_bits: dict[str, int]     # field (upper case) -> bit number, msb first
+    digcfg_bits: dict[str, int]  # field (upper case) -> bit number, msb first
     digcfg_stored: int
     digcfg_reset: int
-    devcode_bits: dict[str, int]    # HOST, RFLX -> bit number
-    devcode_pin: tuple[int, int]    # msb, lsb
+    devcode_bits: dict[str, int]  # HOST, RFLX -> bit number
+    devcode_pin: tuple[int, int]  # msb, lsb
     hb_up: int
     hb_down: int
     hb_answer_offset: int
@@ -79,15 +75,19 @@ class Protocol:
     tick_hz: int
     timer_max_ticks: int
     dev_id_limit: int
-    defaults: dict[str, int]        # PARAMETERS, in that order
-    packet_kinds: dict[str, int]    # KIND_<name> -> value
+    defaults: dict[str, int]  # PARAMETERS, in that order
+    packet_kinds: dict[str, int]  # KIND_<name> -> value
 
     def command(self, name: str) -> Command:
         return next(c for c in self.commands if c.name == name)
 
     @property
     def devcode_pin_mask(self) -> int:
-        return ((1 << (self.devcode_pin[0] - self.devcode_pin[1] + 1)) - 1) << self.devcode_pin[1]
+        return _field_mask(*self.devcode_pin)
+
+
+def _field_mask(msb: int, lsb: int) -> int:
+    return ((1 << (msb - lsb + 1)) - 1) << lsb if msb >= lsb else 0
 
 
 class _Section:
@@ -123,13 +123,6 @@ class _Section:
             raise TableError(f"{self.where}: unknown key(s) {', '.join(extra)}")
 
 
-def _unique(items: list[Any], attr: str, what: str) -> None:
-    values = [getattr(it, attr) for it in items]
-    for i, v in enumerate(values):
-        if v in values[:i]:
-            raise TableError(f"two {what}s with {attr} {v!r}")
-
-
 def load(path: Path) -> Protocol:
     """Read and check the table."""
     try:
@@ -140,11 +133,17 @@ def load(path: Path) -> Protocol:
         raise TableError(f"{path}: {e}") from None
     top = _Section(raw, path.name)
 
-    def section(key: str) -> _Section:
+    def section(key: str, keys: Any, lo: int = 0, hi: int = 255, **ranges: tuple[int, int]) -> dict[str, int]:
+        """Table [key]: its integer `keys` (None: its upper-case ones), in lo..hi unless `ranges`
+        says otherwise, and no other keys."""
         top.used.add(key)
         if key not in raw:
             raise TableError(f"{path.name}: missing table [{key}]")
-        return _Section(raw[key], f"[{key}]")
+        s = _Section(raw[key], f"[{key}]")
+        keys = [k for k in s.data if re.fullmatch(r"[A-Z][A-Z0-9_]*", k)] if keys is None else keys
+        values = {k: s.get(k, *ranges.get(k, (lo, hi))) for k in keys}
+        s.done()
+        return values
 
     def array(key: str, pattern: str) -> list[tuple[_Section, str]]:
         top.used.add(key)
@@ -153,14 +152,11 @@ def load(path: Path) -> Protocol:
         out = []
         for i, r in enumerate(raw[key]):
             s = _Section(r, f"[[{key}]] #{i + 1}")
-            name = s.get("name", pattern=pattern)
-            s.where = f"[[{key}]] {name}"
+            s.where = f"[[{key}]] {(name := s.get('name', pattern=pattern))}"
             out.append((s, name))
         return out
 
-    pk = section("packet")
-    max_n, resync, msg_n = pk.get("max_n", 1), pk.get("resync_addr"), pk.get("msg_n", 1)
-    pk.done()
+    max_n, resync, msg_n = section("packet", ("max_n", "resync_addr", "msg_n"), max_n=(1, 255), msg_n=(1, 255)).values()
     commands = []
     for s, name in array("command", r"cmd[A-Z][A-Z0-9_]*"):
         c = Command(s.get("code"), name, s.get("from", choices=("host", "core", "both")),
@@ -178,15 +174,18 @@ def load(path: Path) -> Protocol:
         s.done()
     for items, what, attrs in ((commands, "command", ("code", "name")), (messages, "message", ("code", "name", "const"))):
         for attr in attrs:
-            _unique(items, attr, what)
+            values = [getattr(it, attr) for it in items]
+            for v in values:
+                if values.count(v) > 1:
+                    raise TableError(f"two {what}s with {attr} {v!r}")
     for needed in ("cmdMSG", "cmdDEV_VAL", "cmdHB"):
         if needed not in {c.name for c in commands}:
             raise TableError(f"[[command]]: {needed} is missing (the generated files use it)")
 
-    dc = section("digcfg")
-    digcfg = {f.upper(): dc.get(f, 0, 7) for f in ("fixed", "tmode", "tstate", "trg", "ena", "iodir")}
-    stored, reset = dc.get("stored"), dc.get("reset")
-    dc.done()
+    dc = section("digcfg", ("fixed", "tmode", "tstate", "trg", "ena", "iodir", "stored", "reset"), hi=7,
+                 stored=(0, 255), reset=(0, 255))
+    stored, reset = dc.pop("stored"), dc.pop("reset")
+    digcfg = {f.upper(): b for f, b in dc.items()}
     writable = sum(1 << b for f, b in digcfg.items() if f != "FIXED")
     if len(set(digcfg.values())) != len(digcfg):
         raise TableError("[digcfg]: two fields on the same bit")
@@ -194,27 +193,17 @@ def load(path: Path) -> Protocol:
         raise TableError(f"[digcfg]: stored = 0x{stored:02X} but the writable fields are 0x{writable:02X}")
     if reset & ~stored:
         raise TableError("[digcfg]: reset has bits outside stored")
-    dv = section("devcode")
-    devcode = {"HOST": dv.get("host", 0, 7), "RFLX": dv.get("rflx", 0, 7)}
-    pin = (dv.get("pin_msb", 0, 7), dv.get("pin_lsb", 0, 7))
-    dv.done()
-    pin_mask = ((1 << (pin[0] - pin[1] + 1)) - 1) << pin[1] if pin[0] >= pin[1] else 0
-    if not pin_mask or devcode["HOST"] == devcode["RFLX"] or pin_mask & sum(1 << b for b in devcode.values()):
+    host, rflx, *pin = section("devcode", ("host", "rflx", "pin_msb", "pin_lsb"), hi=7).values()
+    devcode, pin_mask = {"HOST": host, "RFLX": rflx}, _field_mask(*pin)
+    if not pin_mask or host == rflx or pin_mask & (1 << host | 1 << rflx):
         raise TableError("[devcode]: HOST, RFLX and the pin field must be distinct bits, pin_msb >= pin_lsb")
-    hb = section("heartbeat")
-    hb_up, hb_down, hb_off, hb_unit = hb.get("up"), hb.get("down"), hb.get("answer_offset"), hb.get("unit_ticks", 1, 2**31 - 1)
-    hb.done()
+    hb_up, hb_down, hb_off, hb_unit = section("heartbeat", ("up", "down", "answer_offset", "unit_ticks"),
+                                              unit_ticks=(1, 2**31 - 1)).values()
     if len({hb_up, hb_down, hb_up + hb_off, hb_down + hb_off}) != 4 or max(hb_up, hb_down) + hb_off > 255:
         raise TableError("[heartbeat]: up, down and their answers must be four distinct bytes")
-    tm = section("timer")
-    tick_hz, max_ticks = tm.get("tick_hz", 1, 2**31 - 1), tm.get("max_ticks", 1, 0xFFFF)
-    tm.done()
-    di = section("device_id")
-    limit = di.get("limit", 1, 1 << (pin[0] - pin[1] + 1))
-    di.done()
-    df = section("defaults")
-    defaults = {p: df.get(p, 0, 2**64 - 1) for p in PARAMETERS}
-    df.done()
+    tick_hz, max_ticks = section("timer", ("tick_hz", "max_ticks"), tick_hz=(1, 2**31 - 1), max_ticks=(1, 0xFFFF)).values()
+    (limit,) = section("device_id", ("limit",), 1, 1 << (pin[0] - pin[1] + 1)).values()
+    defaults = section("defaults", PARAMETERS, 0, 2**64 - 1)
     n = defaults["NUM_PINS"]
     if not 1 <= n <= pin_mask >> pin[1]:
         raise TableError(f"[defaults]: NUM_PINS = {n} does not fit the DEVCODE pin field")
@@ -225,14 +214,12 @@ def load(path: Path) -> Protocol:
         raise TableError("[defaults]: TIMER_MASK, FIXED_MASK or FIXED_CFG has bits above NUM_PINS")
     if defaults["MODULE_ADDR"] % 2 or not 2 <= defaults["MODULE_ADDR"] <= 254:
         raise TableError("[defaults]: MODULE_ADDR must be even, 2..254")
-    kd = section("packet_kind")
-    kinds = {k: kd.get(k, 0, 3) for k in kd.data if re.fullmatch(r"[A-Z][A-Z0-9_]*", k)}
-    kd.done()
+    kinds = section("packet_kind", None, 0, 3)
     if not kinds or len(set(kinds.values())) != len(kinds):
         raise TableError("[packet_kind]: needs distinct values, upper-case names")
     top.done()
-    return Protocol(max_n, resync, msg_n, commands, messages, digcfg, stored, reset, devcode, pin, hb_up, hb_down,
-                    hb_off, hb_unit, tick_hz, max_ticks, limit, defaults, kinds)
+    return Protocol(max_n, resync, msg_n, commands, messages, digcfg, stored, reset, devcode, tuple(pin), hb_up,
+                    hb_down, hb_off, hb_unit, tick_hz, max_ticks, limit, defaults, kinds)
 
 
 # --- renderers: each returns the whole file; names are the same in every language ---------
@@ -384,34 +371,26 @@ def render_all(p: Protocol) -> dict[str, str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(
-        description="Generate the protocol constants (" + ", ".join(p for p, _ in OUTPUTS) + f") from {TABLE}.",
-        epilog="Exit status: 0 up to date (or written), 1 stale files (--check), 2 a bad table or path.")
+    ap = argparse.ArgumentParser(description=f"Generate {', '.join(p for p, _ in OUTPUTS)} from {TABLE}.",
+                                 epilog="Exit status: 0 up to date (or written), 1 stale files (--check), 2 a bad table or path.")
     ap.add_argument("--check", action="store_true", help="write nothing; exit 1 and list the stale or missing files")
     ap.add_argument("--root", type=Path, default=ROOT, help="repository root the paths are relative to")
     ap.add_argument("--table", type=Path, default=None, help=f"the table (default: ROOT/{TABLE})")
     ap.add_argument("-q", "--quiet", action="store_true", help="print only errors and stale files")
     args = ap.parse_args(argv)
+    stale = []
     try:
-        proto = load(args.table or args.root / TABLE)
-    except TableError as e:
+        for rel, text in render_all(load(args.table or args.root / TABLE)).items():
+            old = (args.root / rel).read_text(encoding="utf-8") if (args.root / rel).is_file() else None
+            if old != text and args.check:
+                stale.append(f"{rel} ({'missing' if old is None else 'differs from ' + TABLE})")
+            elif old != text:
+                (args.root / rel).write_text(text, encoding="utf-8")
+                if not args.quiet:
+                    print(f"wrote {rel}")
+    except (TableError, OSError) as e:
         print(f"gen_protocol: error: {e}", file=sys.stderr)
         return 2
-    stale = []
-    for rel, text in render_all(proto).items():
-        path = args.root / rel
-        old = path.read_text(encoding="utf-8") if path.is_file() else None
-        if old == text:
-            continue
-        if args.check:
-            stale.append(f"{rel} ({'missing' if old is None else 'differs from ' + TABLE})")
-            continue
-        if not path.parent.is_dir():
-            print(f"gen_protocol: error: {path.parent} does not exist", file=sys.stderr)
-            return 2
-        path.write_text(text, encoding="utf-8")
-        if not args.quiet:
-            print(f"wrote {rel}")
     if stale:
         print("gen_protocol: stale generated files (run `make protocol` and commit them):\n  " + "\n  ".join(stale),
               file=sys.stderr)
