@@ -148,19 +148,31 @@ module bsd_drain #(
     wire                take_rep  = !any_t && !dio_q && rep_q;
     wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
     // Items left after this clock's: when none, the next entry is taken now
-    // (an item every clock, entries back to back). "Two timers or more" as
-    // gates (which synthesis balances) instead of the pick's carry chain, which
-    // keeps the queue's pop (ev_ready_o) short.
+    // (an item every clock, entries back to back). "Two timers or more" by a
+    // tree of 4-bit groups (any, two or more) instead of the pick's carry
+    // chain, which keeps the queue's pop (ev_ready_o) short.
     function two_or_more(input [NT-1:0] v);
-        integer t;
-        reg     seen;
+        integer lvl, i, j, c;
+        reg [63:0] any, two, any_n, two_n;
         begin
-            seen        = 1'b0;
-            two_or_more = 1'b0;
-            for (t = 0; t < NT; t = t + 1) begin
-                two_or_more = two_or_more | (seen & v[t]);
-                seen        = seen | v[t];
+            any = 64'd0;
+            any[NT-1:0] = v;
+            two = 64'd0;
+            for (lvl = 0; lvl < 3; lvl = lvl + 1) begin
+                any_n = 64'd0;
+                two_n = 64'd0;
+                for (i = 0; i < 16; i = i + 1) begin
+                    for (j = 0; j < 4; j = j + 1) begin
+                        two_n[i] = two_n[i] | two[4*i + j];
+                        for (c = j + 1; c < 4; c = c + 1)
+                            two_n[i] = two_n[i] | (any[4*i + j] & any[4*i + c]);
+                        any_n[i] = any_n[i] | any[4*i + j];
+                    end
+                end
+                any = any_n;
+                two = two_n;
             end
+            two_or_more = two[0];
         end
     endfunction
     wire                more_t    = take_t ? two_or_more(rem) : any_t;

@@ -30,7 +30,6 @@ module bsd_timeout_wheel #(
     input  wire [NUM_TIMERS-1:0] run_i,
     output wire [NUM_TIMERS-1:0] expire_o
 );
-    localparam [NUM_TIMERS-1:0] ONE   = {{(NUM_TIMERS-1){1'b0}}, 1'b1};
     localparam [NUM_TIMERS-1:0] NONE  = {NUM_TIMERS{1'b0}};
     localparam [5:0]          LAST  = NUM_TIMERS[5:0] - 6'd1;  // 64 timers: 63
 
@@ -39,6 +38,18 @@ module bsd_timeout_wheel #(
         begin
             pad = 64'd0;
             pad[NUM_TIMERS-1:0] = v;
+        end
+    endfunction
+
+    // A 6-bit timer number to a one-hot vector through two 8-way decoders
+    // (a gate per timer), not a 64-bit shifter.
+    function [NUM_TIMERS-1:0] one_hot(input [5:0] idx);
+        integer t;
+        reg [7:0] hi, lo;
+        begin
+            hi = 8'd1 << idx[5:3];
+            lo = 8'd1 << idx[2:0];
+            for (t = 0; t < NUM_TIMERS; t = t + 1) one_hot[t] = hi[t / 8] & lo[t % 8];
         end
     endfunction
 
@@ -87,9 +98,10 @@ module bsd_timeout_wheel #(
     reg         win3_q;
     reg         stale3_q;     // or a start on stage 2's clock
     reg  [NUM_TIMERS-1:0] ins_q;  // inserted into the wheel for the current run
-    wire [63:0] run64    = pad(run_i);
-    wire [63:0] ins64    = pad(ins_q);
-    wire        cand     = !stale3_q && win3_q && run64[scan3_q] && !ins64[scan3_q];
+    // Running and not yet inserted: one vector, one mux.
+    wire [63:0] want64   = pad(run_i & ~ins_q);
+    wire        cand     = !stale3_q && win3_q && want64[scan3_q];
+    wire [NUM_TIMERS-1:0] scan3_bit = one_hot(scan3_q);
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
@@ -116,7 +128,7 @@ module bsd_timeout_wheel #(
     assign              advance = !(cand && clear);
     wire                w_en   = clear || insert;
     wire [5:0]          w_addr = clear ? slot_q : slot3_q;
-    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan3_q);
+    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : scan3_bit;
     wire                w_bit  = !clear;
 
     integer b;
@@ -146,7 +158,7 @@ module bsd_timeout_wheel #(
         // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
-        ins_q    <= ((ins_q | (insert ? (ONE << scan3_q) : NONE)) & ~start_i);
+        ins_q    <= ((ins_q | (insert ? scan3_bit : NONE)) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
