@@ -110,11 +110,13 @@ module bsd_timeout_wheel #(
     // ---------------------------------------------------------------- wheel
     (* no_rw_check *)  // the slot read is never the one written (see in_win)
     reg [NUM_TIMERS-1:0] wheel [0:63];
-    reg [NUM_TIMERS-1:0] slot_rd_q;
-    reg                tick1_q;   // the clock after a tick: read the next slot
-    reg                tick2_q;   // the clock after that: take it and clear it
-    reg [5:0]          slot_q;    // the slot read
+    // The slot read: the timers whose timeout is the next tick (with ins_q).
+    // It is the RAM's read register and is used straight from it, until the
+    // next read (a clock after the next tick): no copy per timer.
     reg [NUM_TIMERS-1:0] expire_q;
+    reg                tick1_q;   // the clock after a tick: read the next slot
+    reg                tick2_q;   // the clock after that: clear it
+    reg [5:0]          slot_q;    // the slot read
 
     // A tick now makes T = t_i + 1: the next tick's timeouts (T = t_i + 2)
     // are of the timers started at t_i + 3, slot t_i + 3.
@@ -137,10 +139,13 @@ module bsd_timeout_wheel #(
             for (b = 0; b < NUM_TIMERS; b = b + 1)
                 if (w_mask[b]) wheel[w_addr][b] <= w_bit;
         end
-        if (tick1_q) slot_rd_q <= wheel[slot_q];
+        if (tick1_q) expire_q <= wheel[slot_q];
     end
 
-    // A start after the slot was read drops the timer's bit (a new run).
+    // A start after the slot was read drops the timer's bit (a new run). A
+    // bit left in the slot by an earlier run never meets a new insertion: a
+    // slot is read within 64 ticks, a run is inserted 65 473 ticks after its
+    // start at the earliest; and the slot read is never the one inserted into.
     assign expire_o = expire_q & ins_q;
 
     always @(posedge clk) begin
@@ -162,7 +167,6 @@ module bsd_timeout_wheel #(
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
-        if (tick2_q) expire_q <= slot_rd_q & ins_q;
         if (rst) begin
             st_q        <= 1'b0;
             scan_q      <= 6'd0;
@@ -175,7 +179,6 @@ module bsd_timeout_wheel #(
             tick1_q     <= 1'b0;
             tick2_q     <= 1'b0;
             slot_q      <= 6'd3;
-            expire_q    <= NONE;
         end
     end
 
