@@ -54,5 +54,5 @@
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
         cover(insert);
         cover(tick_i && (expire_o & run_i) != NONE);             // a timeout
-        cover(f_start_q[0] && expire_q[0]);                       // restart after a slot was read
+        cover(f_start_q[0] && expire_q[0]);                       // restart after its slot was read
     end

@@ -9,10 +9,11 @@
 // running or a delivery pending (busy until delivered, exactly); a finish event comes
 // exactly on the clock after a delivering measurement ends, and never otherwise; a
 // reference event only after a start or while running; T counts ticks.
+    localparam [NUM_TIMERS-1:0] F_ONE = {{(NUM_TIMERS-1){1'b0}}, 1'b1};
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q;
     reg [NUM_TIMERS-1:0] f_host, f_rflx;           // deliveries still owed (the reference)
-    reg [NUM_TIMERS-1:0] f_run_q, f_start_q, f_deliver_q;
+    reg [NUM_TIMERS-1:0] f_run_q, f_start_q, f_deliver_q, f_expire_q, f_timed_out;
     reg [15:0]           f_t_q;
 
     always @(posedge clk) begin
@@ -22,12 +23,15 @@
         f_run_q      <= run_q;
         f_start_q    <= start_i;
         f_deliver_q  <= host_q | rflx_q;
+        f_expire_q   <= expire_i;
+        f_timed_out  <= (f_timed_out | (ev_r_q & ev_f_q)) & ~start_i;
         f_t_q        <= t_q;
-        f_host <= (f_host & ~(host_done_i ? ONE << host_idx_i : NONE)) | (start_i & {NUM_TIMERS{host_i}});
-        f_rflx <= (f_rflx & ~(rflx_done_i ? ONE << rflx_idx_i : NONE)) | (start_i & {NUM_TIMERS{rflx_i}});
+        f_host <= (f_host & ~(host_done_i ? F_ONE << host_idx_i : NONE)) | (start_i & {NUM_TIMERS{host_i}});
+        f_rflx <= (f_rflx & ~(rflx_done_i ? F_ONE << rflx_idx_i : NONE)) | (start_i & {NUM_TIMERS{rflx_i}});
         if (rst) begin
             f_host <= NONE;
             f_rflx <= NONE;
+            f_timed_out <= NONE;
         end
     end
 
@@ -48,7 +52,8 @@
                     assert(ev_f_q[f_k] == (f_run_q[f_k] && !run_q[f_k] && f_deliver_q[f_k]));
                     // A reference event: after a start or while running, never from an idle timer.
                     if (ev_r_q[f_k]) assert(f_start_q[f_k] || f_run_q[f_k]);
-                    if (tmo_q[f_k]) assert(!run_q[f_k]);
+                    // A timeout (both bits): only on a tick its timer expires on.
+                    if (ev_r_q[f_k] && ev_f_q[f_k]) assert(f_tick_q && f_expire_q[f_k]);
                 end
                 assert(t_q == f_t_q + {15'd0, f_tick_q});
             end
@@ -57,8 +62,8 @@
     end
 
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
-        cover(ev_f_q[0] && tmo_q[0]);                         // a timeout delivered
+        cover(ev_f_q[0] && ev_r_q[0]);                        // a timeout delivered
         cover(ev_f_q == {NUM_TIMERS{1'b1}});                  // every timer finishing on one clock
         cover(f_start_q[1] && ev_r_q[1] && !f_run_q[1]);      // an edge-mode start's reference
-        cover(busy_o == NONE && f_host == NONE && tmo_q[1]);  // delivered, free again
+        cover(busy_o == NONE && f_host == NONE && f_timed_out[1]);  // delivered, free again
     end

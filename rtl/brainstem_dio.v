@@ -340,7 +340,7 @@ module brainstem_dio #(
 
     // --------------------------------------------------------------- timers
     wire [NT-1:0]       t_level, t_start, t_tmode, t_tstate, t_busy;
-    wire [NT-1:0]       timer_run, timer_host_pend, timer_rflx_pend, timer_timed_out;
+    wire [NT-1:0]       timer_run, timer_host_pend, timer_rflx_pend;
     wire [NT-1:0]       timer_expire;
     wire [NT-1:0]       ev_r, ev_f;
     wire                ev_any;
@@ -398,7 +398,6 @@ module brainstem_dio #(
         .run_o       (timer_run),
         .host_pend_o (timer_host_pend),
         .rflx_pend_o (timer_rflx_pend),
-        .timed_out_o (timer_timed_out),
         .ev_r_o      (ev_r),
         .ev_f_o      (ev_f),
         .ev_any_o    (ev_any),
@@ -490,7 +489,6 @@ module brainstem_dio #(
         .empty_o       (drain_empty),
         .host_pend_i   (timer_host_pend),
         .rflx_pend_i   (timer_rflx_pend),
-        .timed_out_i   (timer_timed_out),
         .order_valid_o (order_valid),
         .order_data_o  (order_data),
         .rflx_done_o   (rflx_done),

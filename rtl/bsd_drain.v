@@ -13,6 +13,8 @@
 // A DIG_IO RFLX value travels in its entry (ID and level), so it needs no
 // slot and never stalls the input.
 //
+// A timer's bits in an entry: r alone is a reference, f alone a completion,
+// both a timeout (bsd_timer_bank), so no timer keeps a timed-out flag.
 // Items go through two registered stages. A: a reference writes T into the
 // timer's reference RAM; a finish reads the reference. B: a finish's result
 // is T - reference (1 if that is 0; 0 for a timeout); it is queued for the
@@ -39,7 +41,6 @@ module bsd_drain #(
     // the timers' delivery flags (bsd_timer_bank)
     input  wire [NT-1:0]              host_pend_i,
     input  wire [NT-1:0]              rflx_pend_i,
-    input  wire [NT-1:0]              timed_out_i,
     // to the transmitter's queue: {kind, timer, its device ID, result}
     output wire                       order_valid_o,
     output wire [29:0]                order_data_o,
@@ -99,7 +100,6 @@ module bsd_drain #(
     endfunction
     wire [63:0] host64 = pad(host_pend_i);
     wire [63:0] rflx64 = pad(rflx_pend_i);
-    wire [63:0] tmo64  = pad(timed_out_i);
 
     // ------------------------------------------------------------ the entry
     reg [NT-1:0]       r_q, f_q;
@@ -125,12 +125,21 @@ module bsd_drain #(
     // taken (before_q), so the pick compares no IDs.
     reg  [NT-1:0]       before_q;
     wire [NT-1:0]       before_d;
+    // ID >= a constant, for every timer's ID, from three 8-way decodes of the
+    // value's ID (a 3-input gate per timer, no comparator per timer).
+    wire [5:0]          dio_id_in = ev_data_i[22:17];
+    wire [7:0]          hi_gt, hi_eq, lo_ge;
     generate
-        for (g = 0; g < NT; g = g + 1) begin : g_before
-            // A timer with ID 0 ranks before any value: a constant compare.
+        for (g = 0; g < 8; g = g + 1) begin : g_dec
             /* verilator lint_off UNSIGNED */
-            assign before_d[g] = IDS[6*g +: 6] <= ev_data_i[22:17];
+            assign hi_gt[g] = dio_id_in[5:3] > g;
+            assign hi_eq[g] = dio_id_in[5:3] == g;
+            assign lo_ge[g] = dio_id_in[2:0] >= g;
             /* verilator lint_on UNSIGNED */
+        end
+        for (g = 0; g < NT; g = g + 1) begin : g_before
+            localparam [5:0] ID = IDS[6*g +: 6];
+            assign before_d[g] = hi_gt[ID[5:3]] | (hi_eq[ID[5:3]] & lo_ge[ID[2:0]]);
         end
     endgenerate
     wire                dio_first = dio_q && !(|(rem & before_q));
@@ -139,19 +148,31 @@ module bsd_drain #(
     wire                take_rep  = !any_t && !dio_q && rep_q;
     wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
     // Items left after this clock's: when none, the next entry is taken now
-    // (an item every clock, entries back to back). "Two timers or more" as
-    // gates (which synthesis balances) instead of the pick's carry chain, which
-    // keeps the queue's pop (ev_ready_o) short.
+    // (an item every clock, entries back to back). "Two timers or more" by a
+    // tree of 4-bit groups (any, two or more) instead of the pick's carry
+    // chain, which keeps the queue's pop (ev_ready_o) short.
     function two_or_more(input [NT-1:0] v);
-        integer t;
-        reg     seen;
+        integer lvl, i, j, c;
+        reg [63:0] any, two, any_n, two_n;
         begin
-            seen        = 1'b0;
-            two_or_more = 1'b0;
-            for (t = 0; t < NT; t = t + 1) begin
-                two_or_more = two_or_more | (seen & v[t]);
-                seen        = seen | v[t];
+            any = 64'd0;
+            any[NT-1:0] = v;
+            two = 64'd0;
+            for (lvl = 0; lvl < 3; lvl = lvl + 1) begin
+                any_n = 64'd0;
+                two_n = 64'd0;
+                for (i = 0; i < 16; i = i + 1) begin
+                    for (j = 0; j < 4; j = j + 1) begin
+                        two_n[i] = two_n[i] | two[4*i + j];
+                        for (c = j + 1; c < 4; c = c + 1)
+                            two_n[i] = two_n[i] | (any[4*i + j] & any[4*i + c]);
+                        any_n[i] = any_n[i] | any[4*i + j];
+                    end
+                end
+                any = any_n;
+                two = two_n;
             end
+            two_or_more = two[0];
         end
     endfunction
     wire                more_t    = take_t ? two_or_more(rem) : any_t;
@@ -163,12 +184,13 @@ module bsd_drain #(
     assign empty_o    = !any_t && !dio_q && !rep_q && !hb_q;
 
     // ---------------------------------------------------------- stage A, B
-    reg        a_t_q, a_ref_q, a_dio_q, a_rep_q, a_hb_q;
+    reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
     reg [5:0]  a_dio_id_q, b_dio_id_q;
     reg        a_dio_val_q, b_dio_val_q;
     reg [15:0] a_t16_q;
     reg        b_fin_q, b_dio_q, b_rep_q, b_hb_q;
+    reg        a_f_q;
     reg        b_host_q, b_rflx_q, b_tmo_q;
     reg [5:0]  b_k_q;
     reg [15:0] b_t16_q;
@@ -177,7 +199,7 @@ module bsd_drain #(
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     always @(posedge clk) begin
-        if (a_t_q && a_ref_q) ref_mem[a_k_q] <= a_t16_q;
+        if (a_t_q && a_r_q && !a_f_q) ref_mem[a_k_q] <= a_t16_q;
         ref_rd_q <= ref_mem[a_k_q];
     end
 
@@ -223,7 +245,8 @@ module bsd_drain #(
             if (take_hb) hb_q <= 1'b0;
         end
         a_t_q   <= take_t;
-        a_ref_q <= |(r_q & low);
+        a_r_q <= |(r_q & low);
+        a_f_q <= |(f_q & low);
         a_dio_q <= take_dio;
         a_rep_q <= take_rep;
         a_hb_q  <= take_hb;
@@ -232,13 +255,13 @@ module bsd_drain #(
         a_k_q   <= k;
         a_id_q  <= k_id;
         a_t16_q <= t_q;
-        b_fin_q  <= a_t_q && !a_ref_q;
+        b_fin_q  <= a_t_q && a_f_q;
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
         b_host_q <= host64[a_k_q];
         b_rflx_q <= rflx64[a_k_q];
-        b_tmo_q  <= tmo64[a_k_q];
+        b_tmo_q  <= a_r_q;  // with a_f_q: a timeout
         b_k_q    <= a_k_q;
         b_id_q   <= a_id_q;
         b_dio_id_q  <= a_dio_id_q;

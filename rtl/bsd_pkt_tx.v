@@ -65,9 +65,12 @@ module bsd_pkt_tx #(
     reg [5:0]  id_q;
     reg [15:0] result_q;
     reg        first_q;   // no byte of it taken yet
-    // The reply's bytes and the heartbeat's type, copied as the packet starts:
-    // a cmdRESET resets their sources while the packet may still be going out.
-    reg [31:0] rep_data_q, rep_tail_q;
+    // The heartbeat's type, copied as the packet starts: a cmdRESET resets the
+    // heartbeat while its packet may still be going out. The reply's bytes are
+    // read from the reply slot as they go: the slot keeps them until the last
+    // byte has left, and a cmdRESET never meets a reply on its way (it waits
+    // while a reply waits, decision 14); after one, the slot holds the
+    // power-up message, which is what a swapped packet sends.
     reg [7:0]  hb_type_q;
     reg        swapped_q;
     reg        credit_q;  // its source is told when it has left (not after a cmdRESET)
@@ -89,14 +92,14 @@ module bsd_pkt_tx #(
             default: byte_timer = result_q[7:0];
         endcase
         case (pos_q)
-            4'd2:    byte_reply = rep_data_q[31:24];
-            4'd3:    byte_reply = rep_data_q[23:16];
-            4'd4:    byte_reply = rep_data_q[15:8];
-            4'd5:    byte_reply = rep_data_q[7:0];
-            4'd6:    byte_reply = rep_tail_q[31:24];
-            4'd7:    byte_reply = rep_tail_q[23:16];
-            4'd8:    byte_reply = rep_tail_q[15:8];
-            default: byte_reply = rep_tail_q[7:0];
+            4'd2:    byte_reply = rep_data_i[31:24];
+            4'd3:    byte_reply = rep_data_i[23:16];
+            4'd4:    byte_reply = rep_data_i[15:8];
+            4'd5:    byte_reply = rep_data_i[7:0];
+            4'd6:    byte_reply = rep_tail_i[31:24];
+            4'd7:    byte_reply = rep_tail_i[23:16];
+            4'd8:    byte_reply = rep_tail_i[15:8];
+            default: byte_reply = rep_tail_i[7:0];
         endcase
         byte_hb   = pos_q[0] ? hb_type_q : CMD_HB;
         data_byte = kind_q == KIND_TIMER ? byte_timer : kind_q == KIND_REPLY ? byte_reply : byte_hb;
@@ -124,8 +127,6 @@ module bsd_pkt_tx #(
             kind_q   <= kind;
             idx_q    <= item_data_i[27:22];
             first_q  <= 1'b1;
-            rep_data_q <= rep_data_i;
-            rep_tail_q <= rep_tail_i;
             hb_type_q  <= hb_type_i;
             id_q     <= item_data_i[21:16];
             result_q <= item_data_i[15:0];
@@ -139,10 +140,10 @@ module bsd_pkt_tx #(
         if (flush_i && !swap) credit_q <= 1'b0;  // finished, credited to nobody
         if (load) credit_q <= 1'b1;
         if (swap) begin
-            // The address is on offer already; the rest becomes `2, 0x80, 4`.
+            // The address is on offer already; the rest becomes `2, 0x80, 4`,
+            // which the reply slot holds from the next clock.
             kind_q     <= KIND_REPLY;
             n_q        <= MSG_N[3:0];
-            rep_data_q <= {CMD_MSG, MSG_STATE_POWER_RESET, 16'd0};
             last_q     <= 1'b0;
         end
         if (rst) begin

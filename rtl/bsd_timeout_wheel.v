@@ -30,7 +30,6 @@ module bsd_timeout_wheel #(
     input  wire [NUM_TIMERS-1:0] run_i,
     output wire [NUM_TIMERS-1:0] expire_o
 );
-    localparam [NUM_TIMERS-1:0] ONE   = {{(NUM_TIMERS-1){1'b0}}, 1'b1};
     localparam [NUM_TIMERS-1:0] NONE  = {NUM_TIMERS{1'b0}};
     localparam [5:0]          LAST  = NUM_TIMERS[5:0] - 6'd1;  // 64 timers: 63
 
@@ -39,6 +38,18 @@ module bsd_timeout_wheel #(
         begin
             pad = 64'd0;
             pad[NUM_TIMERS-1:0] = v;
+        end
+    endfunction
+
+    // A 6-bit timer number to a one-hot vector through two 8-way decoders
+    // (a gate per timer), not a 64-bit shifter.
+    function [NUM_TIMERS-1:0] one_hot(input [5:0] idx);
+        integer t;
+        reg [7:0] hi, lo;
+        begin
+            hi = 8'd1 << idx[5:3];
+            lo = 8'd1 << idx[2:0];
+            for (t = 0; t < NUM_TIMERS; t = t + 1) one_hot[t] = hi[t / 8] & lo[t % 8];
         end
     endfunction
 
@@ -87,9 +98,10 @@ module bsd_timeout_wheel #(
     reg         win3_q;
     reg         stale3_q;     // or a start on stage 2's clock
     reg  [NUM_TIMERS-1:0] ins_q;  // inserted into the wheel for the current run
-    wire [63:0] run64    = pad(run_i);
-    wire [63:0] ins64    = pad(ins_q);
-    wire        cand     = !stale3_q && win3_q && run64[scan3_q] && !ins64[scan3_q];
+    // Running and not yet inserted: one vector, one mux.
+    wire [63:0] want64   = pad(run_i & ~ins_q);
+    wire        cand     = !stale3_q && win3_q && want64[scan3_q];
+    wire [NUM_TIMERS-1:0] scan3_bit = one_hot(scan3_q);
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
@@ -98,11 +110,13 @@ module bsd_timeout_wheel #(
     // ---------------------------------------------------------------- wheel
     (* no_rw_check *)  // the slot read is never the one written (see in_win)
     reg [NUM_TIMERS-1:0] wheel [0:63];
-    reg [NUM_TIMERS-1:0] slot_rd_q;
-    reg                tick1_q;   // the clock after a tick: read the next slot
-    reg                tick2_q;   // the clock after that: take it and clear it
-    reg [5:0]          slot_q;    // the slot read
+    // The slot read: the timers whose timeout is the next tick (with ins_q).
+    // It is the RAM's read register and is used straight from it, until the
+    // next read (a clock after the next tick): no copy per timer.
     reg [NUM_TIMERS-1:0] expire_q;
+    reg                tick1_q;   // the clock after a tick: read the next slot
+    reg                tick2_q;   // the clock after that: clear it
+    reg [5:0]          slot_q;    // the slot read
 
     // A tick now makes T = t_i + 1: the next tick's timeouts (T = t_i + 2)
     // are of the timers started at t_i + 3, slot t_i + 3.
@@ -116,7 +130,7 @@ module bsd_timeout_wheel #(
     assign              advance = !(cand && clear);
     wire                w_en   = clear || insert;
     wire [5:0]          w_addr = clear ? slot_q : slot3_q;
-    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : (ONE << scan3_q);
+    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : scan3_bit;
     wire                w_bit  = !clear;
 
     integer b;
@@ -125,10 +139,13 @@ module bsd_timeout_wheel #(
             for (b = 0; b < NUM_TIMERS; b = b + 1)
                 if (w_mask[b]) wheel[w_addr][b] <= w_bit;
         end
-        if (tick1_q) slot_rd_q <= wheel[slot_q];
+        if (tick1_q) expire_q <= wheel[slot_q];
     end
 
-    // A start after the slot was read drops the timer's bit (a new run).
+    // A start after the slot was read drops the timer's bit (a new run). A
+    // bit left in the slot by an earlier run never meets a new insertion: a
+    // slot is read within 64 ticks, a run is inserted 65 473 ticks after its
+    // start at the earliest; and the slot read is never the one inserted into.
     assign expire_o = expire_q & ins_q;
 
     always @(posedge clk) begin
@@ -146,11 +163,10 @@ module bsd_timeout_wheel #(
         // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
-        ins_q    <= ((ins_q | (insert ? (ONE << scan3_q) : NONE)) & ~start_i);
+        ins_q    <= ((ins_q | (insert ? scan3_bit : NONE)) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
-        if (tick2_q) expire_q <= slot_rd_q & ins_q;
         if (rst) begin
             st_q        <= 1'b0;
             scan_q      <= 6'd0;
@@ -163,7 +179,6 @@ module bsd_timeout_wheel #(
             tick1_q     <= 1'b0;
             tick2_q     <= 1'b0;
             slot_q      <= 6'd3;
-            expire_q    <= NONE;
         end
     end
 

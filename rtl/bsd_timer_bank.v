@@ -11,13 +11,20 @@
 // keep the +-1 tick bound). The timeout comes from bsd_timeout_wheel
 // (expire_i: the timers whose 65 535th tick is the next one).
 //
-// Events are registered: ev_r_o (a reference), ev_f_o (a finish: a
-// completion, or a timeout) and ev_any_o are of the previous clock, and t_o
-// is then T including that clock's tick. Only timers whose result goes
+// Events are registered: ev_r_o (a reference), ev_f_o (a completion) and
+// both bits together (a timeout, which needs no reference: its result is 0),
+// and ev_any_o are of the previous clock, and t_o is then T including that
+// clock's tick. So the drain learns a timeout from the event itself and no
+// timer keeps a timed-out flag. Only timers whose result goes
 // somewhere (HOST or RFLX) make events: one with neither is free again when
 // it finishes. A timer is busy from its start until its result has been
 // delivered: host_pend (cleared by host_done_i, the packet's last byte) and
 // rflx_pend (cleared by rflx_done_i, its strobe).
+//
+// Width mode is edge mode twice: a pulse's beginning is an edge to the
+// target, after which the target is inverted, so its end is an edge to the
+// new target. One flag (pulse still to begin) replaces the mode and a
+// pulse-begun flag, and one edge detector serves both modes.
 module bsd_timer_bank #(
     parameter integer NUM_TIMERS = 4
 ) (
@@ -39,49 +46,56 @@ module bsd_timer_bank #(
     output wire [NUM_TIMERS-1:0] run_o,
     output wire [NUM_TIMERS-1:0] host_pend_o,
     output wire [NUM_TIMERS-1:0] rflx_pend_o,
-    output wire [NUM_TIMERS-1:0] timed_out_o,  // the measurement ended by timeout
     output wire [NUM_TIMERS-1:0] ev_r_o,
     output wire [NUM_TIMERS-1:0] ev_f_o,
     output wire                ev_any_o,
     output wire [15:0]         t_o
 );
-    localparam [NUM_TIMERS-1:0] ONE  = {{(NUM_TIMERS-1){1'b0}}, 1'b1};
     localparam [NUM_TIMERS-1:0] NONE = {NUM_TIMERS{1'b0}};
+
+    // A 6-bit timer number to a one-hot vector through two 8-way decoders
+    // (a gate per timer), not a 64-bit shifter.
+    function [NUM_TIMERS-1:0] one_hot(input en, input [5:0] idx);
+        integer t;
+        reg [7:0] hi, lo;
+        begin
+            hi = en ? (8'd1 << idx[5:3]) : 8'd0;
+            lo = 8'd1 << idx[2:0];
+            for (t = 0; t < NUM_TIMERS; t = t + 1) one_hot[t] = hi[t / 8] & lo[t % 8];
+        end
+    endfunction
 
     reg [15:0]         t_q;
     reg [NUM_TIMERS-1:0] run_q;
-    reg [NUM_TIMERS-1:0] mode_q;     // the mode and target the measurement started with
-    reg [NUM_TIMERS-1:0] target_q;
-    reg [NUM_TIMERS-1:0] in_pulse_q; // width mode: the pulse has begun
+    reg [NUM_TIMERS-1:0] target_q;   // the level waited for (inverted as a pulse begins)
+    reg [NUM_TIMERS-1:0] wait_pb_q;  // width mode: the pulse is still to begin
     reg [NUM_TIMERS-1:0] prev_q;     // the level of the previous clock
     reg [NUM_TIMERS-1:0] host_q;     // the result packet is still to leave
     reg [NUM_TIMERS-1:0] rflx_q;     // the result strobe is still to come
-    reg [NUM_TIMERS-1:0] tmo_q;
     reg [NUM_TIMERS-1:0] ev_r_q, ev_f_q;
     reg                ev_any_q;
 
-    wire [NUM_TIMERS-1:0] at       = ~(level_i ^ target_q);
-    wire [NUM_TIMERS-1:0] was_at   = ~(prev_q ^ target_q);
-    // Edge mode: the first clock at the target after a clock elsewhere (the
-    // start clock's level is the first "previous" one); width mode: the pulse
-    // began on an earlier clock and the pad has left the target.
-    wire [NUM_TIMERS-1:0] complete = run_q & ((~mode_q & at & ~was_at) | (mode_q & in_pulse_q & ~at));
-    wire [NUM_TIMERS-1:0] pulse_begin = run_q & mode_q & ~in_pulse_q & at & ~was_at;
+    // The first clock at the target after a clock elsewhere (the start
+    // clock's level is the first "previous" one).
+    wire [NUM_TIMERS-1:0] edge_at  = run_q & ~(level_i ^ target_q) & (prev_q ^ target_q);
+    wire [NUM_TIMERS-1:0] complete = edge_at & ~wait_pb_q;
+    wire [NUM_TIMERS-1:0] pulse_begin = edge_at & wait_pb_q;
     wire [NUM_TIMERS-1:0] timeout  = {NUM_TIMERS{tick_i}} & expire_i & run_q;
     wire [NUM_TIMERS-1:0] finish   = complete | timeout;
     wire [NUM_TIMERS-1:0] start    = start_i;
     wire [NUM_TIMERS-1:0] deliver  = host_q | rflx_q;
-    wire [NUM_TIMERS-1:0] host_clr = host_done_i ? (ONE << host_idx_i) : NONE;
-    wire [NUM_TIMERS-1:0] rflx_clr = rflx_done_i ? (ONE << rflx_idx_i) : NONE;
+    wire [NUM_TIMERS-1:0] host_clr = one_hot(host_done_i, host_idx_i);
+    wire [NUM_TIMERS-1:0] rflx_clr = one_hot(rflx_done_i, rflx_idx_i);
+    // A completion on the timeout clock wins; a pulse that begins on it has
+    // no result (a timeout's event is r and f together).
     wire [NUM_TIMERS-1:0] ev_r_d   = ((start & ~mode_i & {NUM_TIMERS{host_i || rflx_i}}) |
-                                    (pulse_begin & deliver));
+                                    (deliver & (pulse_begin | (timeout & ~complete))));
     wire [NUM_TIMERS-1:0] ev_f_d   = finish & deliver;
 
     assign busy_o      = run_q | host_q | rflx_q;
     assign run_o       = run_q;
     assign host_pend_o = host_q;
     assign rflx_pend_o = rflx_q;
-    assign timed_out_o = tmo_q;
     assign ev_r_o      = ev_r_q;
     assign ev_f_o      = ev_f_q;
     assign ev_any_o    = ev_any_q;
@@ -91,23 +105,18 @@ module bsd_timer_bank #(
         t_q        <= t_q + {15'd0, tick_i};
         prev_q     <= level_i;
         run_q      <= ((run_q & ~finish) | start);
-        mode_q     <= ((mode_q & ~start) | (mode_i & start));
-        target_q   <= ((target_q & ~start) | (target_i & start));
-        in_pulse_q <= (in_pulse_q | pulse_begin) & ~start;
+        target_q   <= ((target_q ^ pulse_begin) & ~start) | (target_i & start);
+        wait_pb_q  <= ((wait_pb_q & ~pulse_begin) & ~start) | (mode_i & start);
         host_q     <= ((host_q & ~host_clr) | (start & {NUM_TIMERS{host_i}}));
         rflx_q     <= ((rflx_q & ~rflx_clr) | (start & {NUM_TIMERS{rflx_i}}));
-        // A completion on the timeout clock wins.
-        tmo_q      <= (tmo_q | (timeout & ~complete)) & ~start;
         ev_r_q     <= ev_r_d;
         ev_f_q     <= ev_f_d;
         ev_any_q   <= |(ev_r_d | ev_f_d);
         if (rst) begin
             t_q        <= 16'd0;
             run_q      <= NONE;
-            in_pulse_q <= NONE;
             host_q     <= NONE;
             rflx_q     <= NONE;
-            tmo_q      <= NONE;
             ev_r_q     <= NONE;
             ev_f_q     <= NONE;
             ev_any_q   <= 1'b0;

@@ -5,7 +5,7 @@ Checked against PROTOCOL.md §4.2 and §5 and DESIGN.md decisions 1, 4 and 9: en
 taken in queue order, and within one entry the items go timers by ascending timer (pin),
 then the reply, then the heartbeat, with the DIG_IO RFLX value before the first timer whose
 device ID is above its own. A reference stores T for its timer; a finish's result is
-T - reference (1 when that is 0, 0 for a timed-out timer); it becomes an output-queue item
+T - reference (1 when that is 0, 0 for a timeout: a timer's r and f bits together); it becomes an output-queue item
 {timer, its ID, result} when the timer's HOST bit is set and an RFLX strobe (with the
 timer's rflx_done_o) when its RFLX bit is; the reply and the heartbeat become items, the
 DIG_IO value a strobe. DrainModel is that text; the item and strobe sequences must equal it.
@@ -36,7 +36,7 @@ def mask_of(text: str) -> int:
 
 
 class DrainTB(ClockedTB):
-    INPUTS = dict(ev_valid_i=0, ev_data_i=0, host_pend_i=0, rflx_pend_i=0, timed_out_i=0)
+    INPUTS = dict(ev_valid_i=0, ev_data_i=0, host_pend_i=0, rflx_pend_i=0)
     OUTPUTS = ("ev_ready_o", "order_valid_o", "order_data_o", "rflx_done_o", "rflx_idx_o",
                "rflx_valid_o", "rflx_id_o", "rflx_data_o")
 
@@ -67,7 +67,7 @@ class DrainTB(ClockedTB):
         return out
 
 
-def model(tb: DrainTB, entries: list[dict], host: int, rflx: int, tmo: int) -> tuple[list, list]:
+def model(tb: DrainTB, entries: list[dict], host: int, rflx: int) -> tuple[list, list]:
     """The output-queue items and RFLX strobes the entries must give, in order."""
     ref = [None] * tb.nt
     items, strobes = [], []
@@ -79,10 +79,10 @@ def model(tb: DrainTB, entries: list[dict], host: int, rflx: int, tmo: int) -> t
         for what, k in order:
             if what == "dio":
                 strobes.append((e["dio_id"], e["dio_val"]))
-            elif e["r"] >> k & 1:
+            elif e["r"] >> k & 1 and not e["f"] >> k & 1:
                 ref[k] = e["t"]
             else:
-                res = 0 if tmo >> k & 1 else max(1, (e["t"] - ref[k]) & 0xFFFF)
+                res = 0 if e["r"] >> k & 1 else max(1, (e["t"] - ref[k]) & 0xFFFF)
                 if host >> k & 1:
                     items.append((TIMER, k, tb.ids[k], res))
                 if rflx >> k & 1:
@@ -97,7 +97,6 @@ def model(tb: DrainTB, entries: list[dict], host: int, rflx: int, tmo: int) -> t
 async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
     rng, nt = tb.rng, tb.nt
     host, rflx = rng.getrandbits(nt) | 1, rng.getrandbits(nt) | 2
-    tmo = rng.getrandbits(nt) & ~0b11
     phase = [0] * nt   # 0: the next event is the reference, 1: the finish
     entries = []
     t = rng.randrange(65536)
@@ -106,8 +105,10 @@ async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
         r = f = 0
         for k in range(nt):
             if rng.random() < 0.5:
-                if tmo >> k & 1:
-                    f |= 1 << k          # a timed-out run: a finish with no reference
+                if rng.random() < 0.25:
+                    r |= 1 << k          # a timeout (with or without a reference before): r and f
+                    f |= 1 << k
+                    phase[k] = 0
                 elif phase[k] == 0:
                     r |= 1 << k
                     phase[k] = 1
@@ -119,11 +120,11 @@ async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
                             dio_id=rng.choice(tb.ids + [0, 63, tb.ids[0] + 1]) if dio else 0,
                             dio_val=rng.randrange(2), t=t))
     entries = [e for e in entries if e["r"] | e["f"] | e["rep"] | e["dio"] | e["hb"]]
-    want_items, want_strobes = model(tb, entries, host, rflx, tmo)
+    want_items, want_strobes = model(tb, entries, host, rflx)
     got_items, got_strobes, done = [], [], []
     i = 0
     for _ in range(12 * len(entries) + 40):
-        kw = dict(host_pend_i=host, rflx_pend_i=rflx, timed_out_i=tmo)
+        kw = dict(host_pend_i=host, rflx_pend_i=rflx)
         if i < len(entries) and rng.random() >= p_gap:
             e = entries[i]
             kw.update(ev_valid_i=1, ev_data_i=tb.entry(e["r"], e["f"], e["rep"], e["dio"], e["hb"],
@@ -179,7 +180,7 @@ async def test_item_a_clock(dut) -> None:
     taken = []
     for c in range(3 * nt + 20):
         pend = [e for j, e in enumerate((e1, e2, e3)) if j >= len(taken)]
-        kw = dict(host_pend_i=full, rflx_pend_i=0, timed_out_i=0)
+        kw = dict(host_pend_i=full, rflx_pend_i=0)
         kw.update(ev_valid_i=1, ev_data_i=pend[0]) if pend else kw.update(ev_valid_i=0)
         out = await tb.edge(**kw)
         if pend and out["ev_ready_o"]:

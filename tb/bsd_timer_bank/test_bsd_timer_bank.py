@@ -6,8 +6,9 @@ start (only of an idle timer) latches the mode, the target and the delivery bits
 completes on the first clock at the target after a clock elsewhere (the start clock's level
 counts), width mode first sees the pulse begin (non-target -> target) and completes when it
 ends; expire_i on a tick is the timeout, a completion on that clock wins. Events (registered:
-of the previous clock): a reference at an edge-mode start and at a pulse's beginning, a
-finish at completion or timeout, only for timers whose result goes somewhere; T counts ticks.
+of the previous clock): a reference (ev_r alone) at an edge-mode start and at a pulse's
+beginning, a completion (ev_f alone), a timeout (both, also when a pulse begins on that
+clock), only for timers whose result goes somewhere; T counts ticks.
 A timer is busy from its start until host_done_i / rflx_done_i name it. Every output is
 compared with the model on every clock.
 """
@@ -39,7 +40,7 @@ class BankModel:
         self.prev = [0] * n
         self.host = [0] * n
         self.rflx = [0] * n
-        self.tmo = [0] * n
+        self.tmo = [0] * n   # the run ended by timeout (for the tests' tallies)
         self.ev_r = [0] * n
         self.ev_f = [0] * n
 
@@ -51,7 +52,7 @@ class BankModel:
         v = self.vec
         return dict(busy_o=v([r | h | f for r, h, f in zip(self.run, self.host, self.rflx)]),
                     run_o=v(self.run), host_pend_o=v(self.host), rflx_pend_o=v(self.rflx),
-                    timed_out_o=v(self.tmo), ev_r_o=v(self.ev_r), ev_f_o=v(self.ev_f),
+                    ev_r_o=v(self.ev_r), ev_f_o=v(self.ev_f),
                     ev_any_o=int(any(self.ev_r) or any(self.ev_f)), t_o=self.t)
 
     def edge(self, i: dict) -> None:
@@ -68,7 +69,7 @@ class BankModel:
             start = bit("start_i", k)
             deliver = self.host[k] or self.rflx[k]
             self.ev_r[k] = int(bool((start and not bit("mode_i", k) and (i["host_i"] or i["rflx_i"]))
-                                    or (begin and deliver)))
+                                    or (begin and deliver) or (timeout and not complete and deliver)))
             self.ev_f[k] = int(bool(finish and deliver))
             self.tmo[k] = 0 if start else int(bool(self.tmo[k] or (timeout and not complete)))
             if i["host_done_i"] and i["host_idx_i"] == k:
@@ -91,7 +92,7 @@ class BankTB(ClockedTB):
     INPUTS = dict(tick_i=0, level_i=0, start_i=0, mode_i=0, target_i=0, host_i=0, rflx_i=0,
                   expire_i=0, host_done_i=0, host_idx_i=0, rflx_done_i=0, rflx_idx_i=0)
     PULSES = ("tick_i", "start_i", "host_done_i", "rflx_done_i")
-    OUTPUTS = ("busy_o", "run_o", "host_pend_o", "rflx_pend_o", "timed_out_o", "ev_r_o", "ev_f_o",
+    OUTPUTS = ("busy_o", "run_o", "host_pend_o", "rflx_pend_o", "ev_r_o", "ev_f_o",
                "ev_any_o", "t_o")
 
     def __init__(self, dut) -> None:
@@ -179,14 +180,28 @@ async def test_busy_until_delivered(dut) -> None:
 
 @cocotb.test()
 async def test_completion_wins_on_timeout_clock(dut) -> None:
-    """A completion on the clock its timeout expires is a completion (timed_out_o 0)."""
+    """A completion on the clock its timeout expires is a completion (ev_f alone), a timeout
+    is ev_r and ev_f together."""
     tb = BankTB(dut)
     await tb.reset()
     await tb.step(level_i=0, target_i=1)
     await tb.step(start_i=0b11, host_i=1, target_i=1)   # timers 0 and 1, edge mode to 1
     await tb.steps(2)
     out = await tb.step(tick_i=1, expire_i=0b11, level_i=0b01)  # 0 completes, 1 times out
-    assert out["ev_f_o"] & 0b11 == 0b11 and out["timed_out_o"] & 0b11 == 0b10
+    assert out["ev_f_o"] & 0b11 == 0b11 and out["ev_r_o"] & 0b11 == 0b10
+
+
+@SUITE.test()
+async def test_pulse_begin_on_timeout_clock(dut) -> None:
+    """A width-mode pulse that begins on the timeout clock: the run times out (ev_r and
+    ev_f together, result 0), not a reference that would leave the timer waiting forever."""
+    tb = BankTB(dut)
+    await tb.reset()
+    await tb.step(level_i=0)
+    await tb.step(start_i=1, host_i=1, mode_i=1, target_i=1)
+    await tb.steps(2)
+    out = await tb.step(tick_i=1, expire_i=1, level_i=1)  # the pulse begins as it expires
+    assert out["ev_r_o"] & 1 and out["ev_f_o"] & 1 and out["run_o"] & 1 == 0
 
 
 @pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
