@@ -1,18 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Executes one packet from the parser in two clocks. The first looks up the
-// addressed pin's state (a wide mux on many-pin builds) and decides the
-// state changes (configuration and output writes, re-arms, timer starts, the
-// heartbeat answer) into registers, so that those strobes leave this module
-// straight from flops. The second drives them and decides the reply or
-// message with the contract's precedence (cmdInvalid, cmdTooShort, the
-// command's own error, then the action and cmdTooLong), and whether a DIG_IO
-// read sends its value on RFLX. Packets come at least three clocks apart, so
-// the stages never overlap. cmdDEBUG's echo takes d3..d7 straight from the
-// parser's registers in stage 2: the parser writes no data byte before the
-// clock after stage 2, when the reply slot has taken them. The decision goes to bsd_reply_slot, which holds
-// the waiting reply and the waiting DIG_IO RFLX value and tells the parser
-// when to hold.
+// addressed pin's state (an AND-OR over the pins on many-pin builds),
+// decides the state changes (configuration and output writes, re-arms, timer
+// starts, the heartbeat answer) into registers, so that those strobes leave
+// this module straight from flops, and decides the reply as far as the
+// packet alone tells, with the contract's precedence (cmdInvalid,
+// cmdTooShort, the command's own error, then the action and cmdTooLong). The
+// second drives the strobes and completes the reply with what the pin's
+// IODIR and its timer's start decide, and whether a DIG_IO read sends its
+// value on RFLX. Packets come at least three clocks apart, so the stages
+// never overlap. cmdDEBUG's echo takes d3..d7 straight from the parser's
+// registers in stage 2: the parser writes no data byte before the clock
+// after stage 2, when the reply slot has taken them. The decision goes to
+// bsd_reply_slot, which holds the waiting reply and the waiting DIG_IO RFLX
+// value and tells the parser when to hold.
 module bsd_exec #(
     parameter integer        NUM_PINS    = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK  = 5'b11110,
@@ -131,62 +133,69 @@ module bsd_exec #(
     wire [NUM_PINS-1:0] do_rst   = sel & {NUM_PINS{c_rst && pin_byte}};
     wire [NUM_PINS-1:0] do_start = sel & {NUM_PINS{c_time}} & TIMER_MASK & is_input & ~timer_busy_i;
 
-    // The reply, decided as far as the packet alone tells (each flag one
-    // outcome, at most one set), so that stage 2 only adds what the pin's
-    // IODIR and its timer's start decide: its few gates lie between flops
-    // and the reply slot.
+    // The reply, decided as far as the packet alone tells; stage 2 adds only
+    // what the pin's IODIR and its timer's start decide, in a gate or two
+    // between flops and the reply slot. A reply's bytes past its N are never
+    // sent, so they are left as they fall.
+    wire cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
+    wire rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
+    wire idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
+                   (is_cmd && d0_io && n2 && !dev_ok) ||
+                   (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
+    wire m_inv   = is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
+    wire m_short = is_cmd && d0_dig && n1;
+    wire cfgerr  = c_cfg && pin_ok && sel_fixed;
+    wire cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
+    wire dbg     = is_cmd && d0_dbg;
+    wire serial  = pkt_valid_i && pkt_kind_i == KIND_SERIAL;
+    wire probe   = pkt_valid_i && pkt_kind_i == KIND_PROBE;
+    // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
+    wire long    = (d0_cfg || d0_io) ? pkt_n_i > 4'd3 : pkt_n_i > 4'd2;
+
     reg                s2_valid_q;
-    reg                probe_q;       // A, 0
-    reg                m_ser_q;       // serialError
-    reg                m_inv_q;       // cmdInvalid
-    reg                m_short_q;     // cmdTooShort
-    reg                m_cfgerr_q;    // configErr: a DIG_CFG write to a fixed pin
-    reg                m_idx_q;       // cmdIndexErr: a bad pin (or no timer)
-    reg                r_cfgrd_q;     // a DIG_CFG read
-    reg                r_dbg_q;       // cmdDEBUG's echo
+    reg                known_q;       // a reply the packet alone decides
+    reg [7:0]          b0_q, b1_q;    // its first two bytes
+    reg [3:0]          rn_q;          // and its N
     reg                io_w_q;        // a DIG_IO write to a good pin: cmdIndexErr if an input
     reg                io_r_q;        // a DIG_IO read of a good pin: cmdIndexErr unless an input
     reg                pt_q;          // a PTIME_RD of a timer pin: cmdIndexErr unless an input,
                                       // tmrConflict unless started
+    reg                started_q;     // a timer started
     reg                long_q;        // longer than the command's longest form
+    reg                cfg_rd_q, dbg_q;
     reg                reset_q;       // cmdRESET
-    reg [3:0]          n_q;
     reg [7:0]          s2_d1_q, s2_d2_q;
     reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
     reg [4:0]          pin_cfg_q;
     reg                pin_level_q, pin_fixed_q;
-    reg                rst_ok_q;      // a DIG_RST re-arms
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q, start_q;
 
     always @(posedge clk) begin
         s2_valid_q  <= pkt_valid_i;
-        probe_q     <= pkt_valid_i && pkt_kind_i == KIND_PROBE;
-        m_ser_q     <= pkt_valid_i && pkt_kind_i == KIND_SERIAL;
-        m_inv_q     <= is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
-        m_short_q   <= is_cmd && d0_dig && n1;
-        m_cfgerr_q  <= c_cfg && pin_ok && sel_fixed;
-        // (no line of sel is set for a bad DEVCODE pin: sel_timer is 0)
-        m_idx_q     <= (c_cfg && !pin_ok) || (c_rst && !pin_ok) ||
-                       (is_cmd && d0_cfg && n2 && !pin_ok) ||
-                       (c_out && !pin_ok) || (is_cmd && d0_io && n2 && !dev_ok) ||
-                       (c_time && !sel_timer);
-        r_cfgrd_q   <= is_cmd && d0_cfg && n2 && pin_ok;
-        r_dbg_q     <= is_cmd && d0_dbg;
+        known_q     <= probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
+                       (long && (cfg_w || rst_w));
+        b0_q        <= probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
+        b1_q        <= (cfg_rd || dbg) ? pkt_d1_i :
+                       ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
+                       ({8{m_short}} & MSG_CMD_TOO_SHORT) | ({8{cfgerr}}  & MSG_CONFIG_ERR) |
+                       ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
+                       ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
+        rn_q        <= probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? pkt_n_i : MSG_N[3:0];
         io_w_q      <= c_out && pin_ok;
         io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
         pt_q        <= c_time && sel_timer;
-        // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
-        long_q      <= (d0_cfg || d0_io) ? pkt_n_i > 4'd3 : pkt_n_i > 4'd2;
+        started_q   <= |do_start;
+        long_q      <= long;
+        cfg_rd_q    <= cfg_rd;
+        dbg_q       <= dbg;
         reset_q     <= is_cmd && d0_rset;
-        n_q         <= pkt_n_i;
         s2_d1_q     <= pkt_d1_i;
         s2_d2_q     <= pkt_d2_i;
         dev_id_q    <= PIN_ID_W + dev_pin;
         pin_cfg_q   <= look_cfg;
         pin_level_q <= look_level;
         pin_fixed_q <= sel_fixed;
-        rst_ok_q    <= c_rst && pin_ok;
         cfg_we_q    <= |do_cfg;
         out_we_q    <= |do_out;
         hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
@@ -195,19 +204,12 @@ module bsd_exec #(
         start_q     <= do_start;
         if (rst) begin
             s2_valid_q  <= 1'b0;
-            probe_q     <= 1'b0;
-            m_ser_q     <= 1'b0;
-            m_inv_q     <= 1'b0;
-            m_short_q   <= 1'b0;
-            m_cfgerr_q  <= 1'b0;
-            m_idx_q     <= 1'b0;
-            r_cfgrd_q   <= 1'b0;
-            r_dbg_q     <= 1'b0;
+            known_q     <= 1'b0;
             io_w_q      <= 1'b0;
             io_r_q      <= 1'b0;
             pt_q        <= 1'b0;
+            started_q   <= 1'b0;
             reset_q     <= 1'b0;
-            rst_ok_q    <= 1'b0;
             cfg_we_q    <= 1'b0;
             out_we_q    <= 1'b0;
             hb_answer_q <= 1'b0;
@@ -217,9 +219,9 @@ module bsd_exec #(
     end
 
     // ---------------------------------------------------- stage 2: execute
-    wire       dev_host     = s2_d1_q[7];
-    wire       dev_rflx     = s2_d1_q[6];
-    wire       pin_is_input = pin_cfg_q[IODIR];
+    wire       dev_host = s2_d1_q[7];
+    wire       dev_rflx = s2_d1_q[6];
+    wire       in       = pin_cfg_q[IODIR];
 
     assign cfg_we_o      = cfg_we_q;
     assign out_we_o      = out_we_q;
@@ -235,36 +237,27 @@ module bsd_exec #(
     // Any N: the power-up message that follows is the answer, so it is never cmdTooLong.
     assign soft_reset_o  = reset_q;
 
-    // The outcome, with the contract's precedence (cmdInvalid, cmdTooShort,
-    // the command's own error, then the action and cmdTooLong) already in
-    // the flags: each term below is one outcome and at most one is set, so
-    // the reply is an OR of them. A command that changed state (each strobe
-    // belongs to one command) is checked for its length.
-    wire acted    = cfg_we_q || out_we_q || rst_ok_q || |start_q;
-    wire m_long   = long_q && acted;
-    wire m_idx    = m_idx_q || (io_w_q && pin_is_input) || ((io_r_q || pt_q) && !pin_is_input);
-    wire m_tmr    = pt_q && pin_is_input && !(|start_q);
-    wire dev_val  = io_r_q && pin_is_input && dev_host;
-    wire msg      = m_ser_q || m_inv_q || m_short_q || m_cfgerr_q || m_idx || m_long || m_tmr;
-    wire [7:0] code = ({8{m_ser_q}}    & MSG_SERIAL_ERROR)  | ({8{m_inv_q}} & MSG_CMD_INVALID) |
-                      ({8{m_short_q}}  & MSG_CMD_TOO_SHORT) | ({8{m_idx}}   & MSG_CMD_INDEX_ERR) |
-                      ({8{m_cfgerr_q}} & MSG_CONFIG_ERR)    | ({8{m_long}}  & MSG_CMD_TOO_LONG) |
-                      ({8{m_tmr}}      & MSG_TMR_CONFLICT);
-
-    // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).
-    wire dio_rflx = io_r_q && pin_is_input && dev_rflx;
-
+    // The three commands whose outcome needs the pin's IODIR (and the start):
+    //   DIG_IO write    input: cmdIndexErr; output: written (cmdTooLong if long)
+    //   DIG_IO read     input: the value (a reply only for the host bit); output: cmdIndexErr
+    //   PTIME_RD        input and started: (cmdTooLong if long); input, busy: tmrConflict;
+    //                   output: cmdIndexErr
     assign s2_valid_o   = s2_valid_q;
-    assign reply_o      = probe_q || msg || r_cfgrd_q || r_dbg_q || dev_val;
-    assign reply_n_o    = ({4{msg}} & MSG_N[3:0]) | ({4{r_cfgrd_q || dev_val}} & 4'd3) |
-                          ({4{r_dbg_q}} & n_q);
-    // The echo: the packet back as received, any N (bytes past N are not sent).
-    assign reply_data_o = ({32{msg}}       & {CMD_MSG, code, 16'd0}) |
-                          ({32{r_cfgrd_q}} & {CMD_DIG_CFG, s2_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0}) |
-                          ({32{r_dbg_q}}   & {CMD_DEBUG, s2_d1_q, s2_d2_q, pkt_tail_i[39:32]}) |
-                          ({32{dev_val}}   & {CMD_DEV_VAL, 2'b00, dev_id_q, 7'd0, pin_level_q, 8'd0});
+    assign reply_o      = known_q || (io_w_q && (in || long_q)) || (io_r_q && (!in || dev_host)) ||
+                          (pt_q && (!in || !started_q || long_q));
+    assign reply_n_o    = io_r_q ? (in ? 4'd3 : MSG_N[3:0]) : rn_q;
+    assign reply_data_o[31:24] = io_r_q ? (in ? CMD_DEV_VAL : CMD_MSG) : b0_q;
+    assign reply_data_o[23:16] = io_w_q ? (in ? MSG_CMD_INDEX_ERR : MSG_CMD_TOO_LONG) :
+                                 io_r_q ? (in ? {2'b00, dev_id_q} : MSG_CMD_INDEX_ERR) :
+                                 pt_q   ? (!in ? MSG_CMD_INDEX_ERR :
+                                           started_q ? MSG_CMD_TOO_LONG : MSG_TMR_CONFLICT) :
+                                 b1_q;
+    assign reply_data_o[15:8]  = ({8{cfg_rd_q}} & {pin_fixed_q, 2'b00, pin_cfg_q}) |
+                                 ({8{dbg_q}} & s2_d2_q) | {7'd0, io_r_q && pin_level_q};
+    assign reply_data_o[7:0]   = pkt_tail_i[39:32];   // only cmdDEBUG's echo sends it
+    // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).
+    assign dio_rflx_o   = io_r_q && in && dev_rflx;
     assign reply_tail_o = pkt_tail_i[31:0];
-    assign dio_rflx_o   = dio_rflx;
     assign dio_id_o     = dev_id_q;
     assign dio_val_o    = pin_level_q;
 
