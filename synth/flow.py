@@ -231,7 +231,7 @@ def _other_family(family: str, top: str, pcf: str, what: str) -> tuple[Design, .
         _core(16, 0b11110, family, unplaced_why="synthesized for the slopes"),
         _core(16, (1 << 16) - 1, family, unplaced_why="synthesized for the slopes"),
         Design(name=f.board, title=f"{top} ({what})", counted_top=top, params={}, pins=5, timers=4,
-               placed_top=top, sources=("board_status.v", f"{top}.v"), pcf=pcf, seeds=BOARD_SEEDS,
+               placed_top=top, sources=("board_status.v", f"{family}_pads.v", f"{top}.v"), pcf=pcf, seeds=BOARD_SEEDS,
                family=family),
     )
 
@@ -254,11 +254,11 @@ DESIGNS: tuple[Design, ...] = (
            placed_top=SERIAL_TOP, sources=(f"{SERIAL_TOP}.v",)),
     Design(name="icebreaker", title=f"{BOARD_TOP} (UART + FIFO + core, 5 pins, 9600 baud)",
            counted_top=BOARD_TOP, params={}, pins=5, timers=4, placed_top=BOARD_TOP,
-           sources=(f"{BOARD_TOP}.v",), pcf="icebreaker.pcf", seeds=BOARD_SEEDS),
+           sources=("ice40_pads.v", f"{BOARD_TOP}.v"), pcf="icebreaker.pcf", seeds=BOARD_SEEDS),
     # A timer on every pin of the three PMODs (make bitstream BOARD=icebreaker24).
     Design(name="icebreaker24", title=f"{BOARD_TOP} (UART + FIFO + core, 24 pins, 24 timers, 9600 baud)",
            counted_top=BOARD_TOP, params={"NUM_PINS": "24", "TIMER_MASK": _mask(24, (1 << 24) - 1)},
-           pins=24, timers=24, placed_top=BOARD_TOP, sources=(f"{BOARD_TOP}.v",), pcf="icebreaker.pcf"),
+           pins=24, timers=24, placed_top=BOARD_TOP, sources=("ice40_pads.v", f"{BOARD_TOP}.v"), pcf="icebreaker.pcf"),
     *_other_family("ecp5", "ulx3s_top", "ulx3s.lpf", "UART + FIFO + core, 5 pins, 9600 baud"),
     *_other_family("gowin", "tangnano9k_top", "tangnano9k.cst", "UART + FIFO + core, 5 pins, 9600 baud"),
 )

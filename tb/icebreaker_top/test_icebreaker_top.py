@@ -15,7 +15,7 @@ from suite import Suite
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
               pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
-              led_active_low=True, extra_sources=())
+              led_active_low=True, extra_sources=("ice40_pads.v",))
 SUITE = Suite(__file__, BOARD.top, builds(BOARD), sources=BOARD.sources())
 
 
