@@ -179,8 +179,11 @@ module bsd_parser #(
             idle_q      <= {TW{1'b0}};
             pkt_valid_q <= 1'b0;
             pkt_kind_q  <= KIND_CMD;
-            // N and the data bytes need no reset: each is written before the
-            // packet that reads it is handed over.
+            pkt_n_q     <= 4'd0;
+            pkt_d0_q    <= 8'd0;
+            pkt_d1_q    <= 8'd0;
+            pkt_d2_q    <= 8'd0;
+            pkt_tail_q  <= 40'd0;
         end
     end
 
