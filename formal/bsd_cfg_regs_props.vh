@@ -6,7 +6,8 @@
 // (pin_idx_i beyond NUM_PINS - 1 addresses none); an output write stores out_wdata_i in the
 // addressed pin's latch only (fixed pins too). A fixed pin's cfg_o is FIXED_CFG's bits 4:0 on
 // every clock, reset included. cfg_o and out_o (the read-back) equal the reference after
-// every clock, and on a write every other pin keeps its value.
+// every clock, and on a write every other pin keeps its value. oe_o is IODIR (bit 0) inverted
+// on every clock.
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_cfg_we_q, f_out_we_q;
     reg [5:0]            f_idx_q;
@@ -37,6 +38,7 @@
         for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
             if (FIXED_MASK[f_i]) assert(cfg_o[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
             if (f_past_valid) begin
+                assert(oe_o[f_i] == !cfg_o[5*f_i]);
                 assert(cfg_o[5*f_i +: 5] == f_cfg[5*f_i +: 5]);
                 assert(out_o[f_i] == f_out[f_i]);
                 if (f_rst_q) begin

@@ -308,7 +308,8 @@ module brainstem_dio #(
         .cfg_wdata_i (cfg_wdata),
         .out_wdata_i (out_wdata),
         .cfg_o       (cfg),
-        .out_o       (out_latch)
+        .out_o       (out_latch),
+        .oe_o        (pin_oe)
     );
 
     // --------------------------------------------------------- per-pin blocks
@@ -319,7 +320,6 @@ module brainstem_dio #(
         for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
             wire [4:0] c = cfg[5*p +: 5];
 
-            assign pin_oe[p]   = !c[0];
             assign pin_o[p]    = out_latch[p];
             assign t_mode[p]   = c[4];
             assign t_target[p] = c[3];
@@ -475,6 +475,11 @@ module brainstem_dio #(
     wire        order_valid;
     wire [29:0] order_data;
 
+    // A skipping entry has no timer event, and the drain reads T only for
+    // timer events: T needs no mux.
+    wire [EW-1:0] ev_data = {evq_valid ? evq_data[EW-1:16] : {{(EW-26){1'b0}}, ev_entry[25:16]},
+                             evq_data[15:0]};
+
     bsd_drain #(
         .NUM_PINS      (NUM_PINS),
         .TIMER_MASK    (TIMER_MASK),
@@ -484,7 +489,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (core_rst),
         .ev_valid_i    (evq_valid || (ev_new && ev_skip)),
-        .ev_data_i     (evq_valid ? evq_data : {{(EW-26){1'b0}}, ev_entry[25:0]}),
+        .ev_data_i     (ev_data),
         .ev_ready_o    (drain_free),
         .empty_o       (drain_empty),
         .host_pend_i   (timer_host_pend),

@@ -15,7 +15,8 @@ module bsd_cfg_regs #(
     input  wire [4:0]            cfg_wdata_i,
     input  wire                  out_wdata_i,
     output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0
-    output wire [NUM_PINS-1:0]   out_o         // every pin's output latch
+    output wire [NUM_PINS-1:0]   out_o,        // every pin's output latch
+    output wire [NUM_PINS-1:0]   oe_o          // every pin's output enable: !IODIR
 );
     localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
 
@@ -37,13 +38,24 @@ module bsd_cfg_regs #(
 
             if (FIXED_MASK[p]) begin : g_fixed
                 assign cfg_o[5*p +: 5] = FIXED_CFG[8*p +: 5];
+                assign oe_o[p]         = !FIXED_CFG[8*p];
             end else begin : g_free
+                // The output enable is IODIR inverted, kept in a flop of its
+                // own so that the pad's enable needs no gate per pin.
                 reg [4:0] cfg_q;
+                reg       oe_q;
                 always @(posedge clk) begin
-                    if (cfg_we_i && sel) cfg_q <= cfg_wdata_i;
-                    if (rst) cfg_q <= CFG_RESET;
+                    if (cfg_we_i && sel) begin
+                        cfg_q <= cfg_wdata_i;
+                        oe_q  <= !cfg_wdata_i[0];
+                    end
+                    if (rst) begin
+                        cfg_q <= CFG_RESET;
+                        oe_q  <= !CFG_RESET[0];
+                    end
                 end
                 assign cfg_o[5*p +: 5] = cfg_q;
+                assign oe_o[p]         = oe_q;
             end
         end
     endgenerate

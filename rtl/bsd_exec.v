@@ -1,18 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Executes one packet from the parser in two clocks. The first looks up the
-// addressed pin's state (a wide mux on many-pin builds) and decides the
-// state changes (configuration and output writes, re-arms, timer starts, the
-// heartbeat answer) into registers, so that those strobes leave this module
-// straight from flops. The second drives them and decides the reply or
-// message with the contract's precedence (cmdInvalid, cmdTooShort, the
-// command's own error, then the action and cmdTooLong), and whether a DIG_IO
-// read sends its value on RFLX. Packets come at least three clocks apart, so
-// the stages never overlap. cmdDEBUG's echo takes d3..d7 straight from the
-// parser's registers in stage 2: the parser writes no data byte before the
-// clock after stage 2, when the reply slot has taken them. The decision goes to bsd_reply_slot, which holds
-// the waiting reply and the waiting DIG_IO RFLX value and tells the parser
-// when to hold.
+// addressed pin's state (an AND-OR over the pins on many-pin builds),
+// decides the state changes (configuration and output writes, re-arms, timer
+// starts, the heartbeat answer) into registers, so that those strobes leave
+// this module straight from flops, and decides the reply as far as the
+// packet alone tells, with the contract's precedence (cmdInvalid,
+// cmdTooShort, the command's own error, then the action and cmdTooLong). The
+// second drives the strobes and completes the reply with what the pin's
+// IODIR and its timer's start decide, and whether a DIG_IO read sends its
+// value on RFLX. Packets come at least three clocks apart, so the stages
+// never overlap. cmdDEBUG's echo takes d3..d7 straight from the parser's
+// registers in stage 2: the parser writes no data byte before the clock
+// after stage 2, when the reply slot has taken them. The decision goes to
+// bsd_reply_slot, which holds the waiting reply and the waiting DIG_IO RFLX
+// value and tells the parser when to hold.
 module bsd_exec #(
     parameter integer        NUM_PINS    = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK  = 5'b11110,
@@ -65,50 +67,35 @@ module bsd_exec #(
     localparam [7:0] NUM_PINS_W = NUM_PINS[7:0];
     localparam [5:0] PIN_ID_W   = PIN_ID_BASE[5:0];
 
-    // ------------------------------ stage 1: pin lookup and state-change decisions
+    // ------------------------------ stage 1: pin lookup and decisions
     // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
     wire [5:0] dev_pin = pkt_d1_i[5:0];
 
-    // The addressed pin's state for stage 2's replies and messages.
-    // Out-of-range pins read as zero; every use below is qualified by
-    // pin_ok_q or dev_ok_q.
-    reg [4:0]          look_cfg;
-    reg                look_level;
-    reg                look_fixed;
-    reg                look_has_timer;
-    integer i;
-    always @* begin
-        look_cfg        = 5'd0;
-        look_level      = 1'b0;
-        look_fixed      = 1'b0;
-        look_has_timer  = 1'b0;
-        for (i = 0; i < NUM_PINS; i = i + 1) begin
-            if (dev_pin == i[5:0]) begin
-                look_cfg        = cfg_i[5*i +: 5];
-                look_level      = level_i[i];
-                look_fixed      = FIXED_MASK[i];
-                look_has_timer  = TIMER_MASK[i];
-            end
-        end
-    end
-
-    // The packet's kind, command and length as single flags, and the
-    // decided state changes, worked out per pin (each pin's own bits and its
-    // own address compare), so they do not wait for the lookup mux above.
-    wire is_cmd = pkt_valid_i && pkt_kind_i == KIND_CMD;
-    wire n_ge2  = pkt_n_i >= 4'd2;
-    wire n_ge3  = pkt_n_i >= 4'd3;
-    wire pin_ok = pkt_d1_i < NUM_PINS_W;
-    wire dev_ok = {2'b00, dev_pin} < NUM_PINS_W;
-    wire c_cfg  = is_cmd && pkt_d0_i == CMD_DIG_CFG && n_ge3;   // a DIG_CFG write
-    wire c_out  = is_cmd && pkt_d0_i == CMD_DIG_IO && n_ge3;    // a DIG_IO write
-    wire c_rst  = is_cmd && pkt_d0_i == CMD_DIG_RST && n_ge2;
-    wire c_time = is_cmd && pkt_d0_i == CMD_PTIME_RD && n_ge2;
+    // The packet's kind, command and length as single flags.
+    wire is_cmd  = pkt_valid_i && pkt_kind_i == KIND_CMD;
+    wire d0_cfg  = pkt_d0_i == CMD_DIG_CFG;
+    wire d0_io   = pkt_d0_i == CMD_DIG_IO;
+    wire d0_rst  = pkt_d0_i == CMD_DIG_RST;
+    wire d0_time = pkt_d0_i == CMD_PTIME_RD;
+    wire d0_dbg  = pkt_d0_i == CMD_DEBUG;
+    wire d0_hb   = pkt_d0_i == CMD_HB;
+    wire d0_rset = pkt_d0_i == CMD_RESET;
+    wire d0_dig  = d0_cfg || d0_io || d0_rst || d0_time;
+    wire n_ge2   = pkt_n_i >= 4'd2;
+    wire n_ge3   = pkt_n_i >= 4'd3;
+    wire n1      = pkt_n_i == 4'd1;
+    wire n2      = pkt_n_i == 4'd2;
+    wire pin_ok  = pkt_d1_i < NUM_PINS_W;
+    wire dev_ok  = {2'b00, dev_pin} < NUM_PINS_W;
+    wire c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
+    wire c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
+    wire c_rst   = is_cmd && d0_rst && n_ge2;
+    wire c_time  = is_cmd && d0_time && n_ge2;
 
     // The addressed pin as a one-hot: two 3-bit decoders and one gate per pin
     // (a compare of the whole index per pin and strobe would cost several).
-    // A `pin` byte must match whole (bits 7:6 zero); a DEVCODE's pin is its
-    // bits 5:0.
+    // No line is set for a pin beyond NUM_PINS - 1. A `pin` byte must match
+    // whole (bits 7:6 zero); a DEVCODE's pin is its bits 5:0.
     wire [7:0]          dec_lo = 8'd1 << dev_pin[2:0];
     wire [7:0]          dec_hi = 8'd1 << dev_pin[5:3];
     wire                unused_dec = ^{dec_lo, dec_hi};  // lines beyond NUM_PINS - 1
@@ -121,67 +108,108 @@ module bsd_exec #(
             assign is_input[g] = cfg_i[5*g + IODIR];
         end
     endgenerate
+
+    // The addressed pin's state, picked with the one-hot (AND-OR: one gate
+    // per pin and bit before the OR tree); zero for a pin beyond the last.
+    reg [4:0] look_cfg;
+    reg       look_level;
+    integer i;
+    always @* begin
+        look_cfg   = 5'd0;
+        look_level = 1'b0;
+        for (i = 0; i < NUM_PINS; i = i + 1) begin
+            look_cfg   = look_cfg | (cfg_i[5*i +: 5] & {5{sel[i]}});
+            look_level = look_level | (level_i[i] && sel[i]);
+        end
+    end
+    wire sel_fixed = |(sel & FIXED_MASK);
+    wire sel_timer = |(sel & TIMER_MASK);
+
+    // The state changes, worked out per pin (each pin's own bits and its own
+    // select), so they do not wait for the lookup above.
     wire                pin_byte = pkt_d1_i[7:6] == 2'b00;
     wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}} & ~FIXED_MASK;
     wire [NUM_PINS-1:0] do_out   = sel & {NUM_PINS{c_out && pin_byte}} & ~is_input;
     wire [NUM_PINS-1:0] do_rst   = sel & {NUM_PINS{c_rst && pin_byte}};
     wire [NUM_PINS-1:0] do_start = sel & {NUM_PINS{c_time}} & TIMER_MASK & is_input & ~timer_busy_i;
 
+    // The reply, decided as far as the packet alone tells; stage 2 adds only
+    // what the pin's IODIR and its timer's start decide, in a gate or two
+    // between flops and the reply slot. A reply's bytes past its N are never
+    // sent, so they are left as they fall.
+    wire cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
+    wire rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
+    wire idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
+                   (is_cmd && d0_io && n2 && !dev_ok) ||
+                   (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
+    wire m_inv   = is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
+    wire m_short = is_cmd && d0_dig && n1;
+    wire cfgerr  = c_cfg && pin_ok && sel_fixed;
+    wire cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
+    wire dbg     = is_cmd && d0_dbg;
+    wire serial  = pkt_valid_i && pkt_kind_i == KIND_SERIAL;
+    wire probe   = pkt_valid_i && pkt_kind_i == KIND_PROBE;
+    // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
+    wire long    = (d0_cfg || d0_io) ? pkt_n_i > 4'd3 : pkt_n_i > 4'd2;
+
     reg                s2_valid_q;
-    reg                probe_q, serial_q, cmd_q;
-    reg                is_hb_q, is_cfg_q, is_io_q, is_rst_q, is_debug_q, is_reset_q, is_invalid_q;
-    reg [3:0]          n_q;
-    reg                n1_q, n2_q, n_gt2_q, n_gt3_q;
+    reg                known_q;       // a reply the packet alone decides
+    reg [7:0]          b0_q, b1_q;    // its first two bytes
+    reg [3:0]          rn_q;          // and its N
+    reg                io_w_q;        // a DIG_IO write to a good pin: cmdIndexErr if an input
+    reg                io_r_q;        // a DIG_IO read of a good pin: cmdIndexErr unless an input
+    reg                pt_q;          // a PTIME_RD of a timer pin: cmdIndexErr unless an input,
+                                      // tmrConflict unless started
+    reg                started_q;     // a timer started
+    reg                long_q;        // longer than the command's longest form
+    reg                cfg_rd_q, dbg_q;
+    reg                reset_q;       // cmdRESET
     reg [7:0]          s2_d1_q, s2_d2_q;
-    reg                pin_ok_q, dev_ok_q;
     reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
     reg [4:0]          pin_cfg_q;
-    reg                pin_level_q, pin_fixed_q, pin_has_timer_q;
-    reg                rst_ok_q;      // a DIG_RST re-arms
+    reg                pin_level_q, pin_fixed_q;
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q, start_q;
 
     always @(posedge clk) begin
-        s2_valid_q      <= pkt_valid_i;
-        probe_q         <= pkt_valid_i && pkt_kind_i == KIND_PROBE;
-        serial_q        <= pkt_valid_i && pkt_kind_i == KIND_SERIAL;
-        cmd_q           <= is_cmd;
-        is_hb_q         <= pkt_d0_i == CMD_HB;
-        is_cfg_q        <= pkt_d0_i == CMD_DIG_CFG;
-        is_io_q         <= pkt_d0_i == CMD_DIG_IO;
-        is_rst_q        <= pkt_d0_i == CMD_DIG_RST;
-        is_debug_q      <= pkt_d0_i == CMD_DEBUG;
-        is_reset_q      <= pkt_d0_i == CMD_RESET;
-        is_invalid_q    <= !(pkt_d0_i == CMD_HB || pkt_d0_i == CMD_DIG_CFG || pkt_d0_i == CMD_DIG_IO ||
-                             pkt_d0_i == CMD_DIG_RST || pkt_d0_i == CMD_PTIME_RD || pkt_d0_i == CMD_DEBUG ||
-                             pkt_d0_i == CMD_RESET);
-        n_q             <= pkt_n_i;
-        n1_q            <= pkt_n_i == 4'd1;
-        n2_q            <= pkt_n_i == 4'd2;
-        n_gt2_q         <= pkt_n_i > 4'd2;
-        n_gt3_q         <= pkt_n_i > 4'd3;
-        s2_d1_q         <= pkt_d1_i;
-        s2_d2_q         <= pkt_d2_i;
-        pin_ok_q        <= pin_ok;
-        dev_ok_q        <= dev_ok;
-        dev_id_q        <= PIN_ID_W + dev_pin;
-        pin_cfg_q       <= look_cfg;
-        pin_level_q     <= look_level;
-        pin_fixed_q     <= look_fixed;
-        pin_has_timer_q <= look_has_timer;
-        rst_ok_q        <= c_rst && pin_ok;
-        cfg_we_q        <= |do_cfg;
-        out_we_q        <= |do_out;
-        hb_answer_q     <= is_cmd && pkt_d0_i == CMD_HB && n_ge2 &&
-                           (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
-        rearm_q         <= do_cfg | do_rst;
-        start_q         <= do_start;
+        s2_valid_q  <= pkt_valid_i;
+        known_q     <= probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
+                       (long && (cfg_w || rst_w));
+        b0_q        <= probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
+        b1_q        <= (cfg_rd || dbg) ? pkt_d1_i :
+                       ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
+                       ({8{m_short}} & MSG_CMD_TOO_SHORT) | ({8{cfgerr}}  & MSG_CONFIG_ERR) |
+                       ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
+                       ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
+        rn_q        <= probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? pkt_n_i : MSG_N[3:0];
+        io_w_q      <= c_out && pin_ok;
+        io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
+        pt_q        <= c_time && sel_timer;
+        started_q   <= |do_start;
+        long_q      <= long;
+        cfg_rd_q    <= cfg_rd;
+        dbg_q       <= dbg;
+        reset_q     <= is_cmd && d0_rset;
+        s2_d1_q     <= pkt_d1_i;
+        s2_d2_q     <= pkt_d2_i;
+        dev_id_q    <= PIN_ID_W + dev_pin;
+        pin_cfg_q   <= look_cfg;
+        pin_level_q <= look_level;
+        pin_fixed_q <= sel_fixed;
+        cfg_we_q    <= |do_cfg;
+        out_we_q    <= |do_out;
+        hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
+                       (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
+        rearm_q     <= do_cfg | do_rst;
+        start_q     <= do_start;
         if (rst) begin
             s2_valid_q  <= 1'b0;
-            probe_q     <= 1'b0;
-            serial_q    <= 1'b0;
-            cmd_q       <= 1'b0;
-            rst_ok_q    <= 1'b0;
+            known_q     <= 1'b0;
+            io_w_q      <= 1'b0;
+            io_r_q      <= 1'b0;
+            pt_q        <= 1'b0;
+            started_q   <= 1'b0;
+            reset_q     <= 1'b0;
             cfg_we_q    <= 1'b0;
             out_we_q    <= 1'b0;
             hb_answer_q <= 1'b0;
@@ -191,9 +219,9 @@ module bsd_exec #(
     end
 
     // ---------------------------------------------------- stage 2: execute
-    wire       dev_host     = s2_d1_q[7];
-    wire       dev_rflx     = s2_d1_q[6];
-    wire       pin_is_input = pin_cfg_q[IODIR];
+    wire       dev_host = s2_d1_q[7];
+    wire       dev_rflx = s2_d1_q[6];
+    wire       in       = pin_cfg_q[IODIR];
 
     assign cfg_we_o      = cfg_we_q;
     assign out_we_o      = out_we_q;
@@ -207,89 +235,29 @@ module bsd_exec #(
     assign timer_rflx_o  = dev_rflx;
     assign hb_answer_down_o = s2_d1_q[0];  // type 3, as hb_answer_o comes only for 2 and 3
     // Any N: the power-up message that follows is the answer, so it is never cmdTooLong.
-    assign soft_reset_o  = cmd_q && is_reset_q;
+    assign soft_reset_o  = reset_q;
 
-    // A DIG_IO read of an input pin with the RFLX bit: the same conditions as
-    // its reply below, written flat since they enable the RFLX slot
-    // (bsd_reply_slot).
-    wire dio_rflx = cmd_q && is_io_q && n2_q && dev_ok_q && pin_is_input && dev_rflx;
-
-    // The command changed state (each flag belongs to one command): check its length.
-    wire acted = cfg_we_q || out_we_q || rst_ok_q || |start_q;
-
-    // The reply or message of the packet in stage 2.
-    reg        reply;
-    reg [3:0]  reply_n;
-    reg [31:0] reply_data;
-
-    task message(input [7:0] code);
-        begin
-            reply      = 1'b1;
-            reply_n    = 4'd2;
-            reply_data = {CMD_MSG, code, 16'd0};
-        end
-    endtask
-
-    always @* begin
-        reply      = 1'b0;
-        reply_n    = 4'd0;
-        reply_data = 32'd0;
-
-        if (probe_q) begin
-            reply = 1'b1;  // A, 0
-        end else if (serial_q) begin
-            message(MSG_SERIAL_ERROR);
-        end else if (cmd_q) begin
-            if (is_hb_q) begin
-                // Silent; stage 1 decided whether it answers.
-            end else if (is_invalid_q) begin
-                message(MSG_CMD_INVALID);
-            end else if (is_reset_q) begin
-                // No reply of its own: the reset puts the power-up message in the reply slot.
-            end else if (is_debug_q) begin
-                // The echo: the packet back as received, any N (bytes past N are not sent).
-                reply      = 1'b1;
-                reply_n    = n_q;
-                reply_data = {CMD_DEBUG, s2_d1_q, s2_d2_q, pkt_tail_i[39:32]};
-            end else if (n1_q) begin
-                message(MSG_CMD_TOO_SHORT);
-            end else if (acted) begin
-                // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
-                if ((is_cfg_q || is_io_q) ? n_gt3_q : n_gt2_q) message(MSG_CMD_TOO_LONG);
-            end else if (is_cfg_q) begin
-                // No write: a bad pin, a read, or a fixed pin.
-                if (!pin_ok_q) message(MSG_CMD_INDEX_ERR);
-                else if (n2_q) begin
-                    reply      = 1'b1;
-                    reply_n    = 4'd3;
-                    reply_data = {CMD_DIG_CFG, s2_d1_q, pin_fixed_q, 2'b00, pin_cfg_q, 8'd0};
-                end else message(MSG_CONFIG_ERR);
-            end else if (is_io_q) begin
-                // No write: a read, or a bad pin or an input pin for a write.
-                if (!n2_q || !dev_ok_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
-                else begin
-                    if (dev_host) begin
-                        reply      = 1'b1;
-                        reply_n    = 4'd3;
-                        reply_data = {CMD_DEV_VAL, 2'b00, dev_id_q, 7'd0, pin_level_q, 8'd0};
-                    end
-                end
-            end else if (is_rst_q) begin
-                message(MSG_CMD_INDEX_ERR);  // no re-arm: a bad pin
-            end else begin
-                // PTIME_RD without a start: a bad pin, or its timer is busy.
-                if (!dev_ok_q || !pin_has_timer_q || !pin_is_input) message(MSG_CMD_INDEX_ERR);
-                else message(MSG_TMR_CONFLICT);
-            end
-        end
-    end
-
+    // The three commands whose outcome needs the pin's IODIR (and the start):
+    //   DIG_IO write    input: cmdIndexErr; output: written (cmdTooLong if long)
+    //   DIG_IO read     input: the value (a reply only for the host bit); output: cmdIndexErr
+    //   PTIME_RD        input and started: (cmdTooLong if long); input, busy: tmrConflict;
+    //                   output: cmdIndexErr
     assign s2_valid_o   = s2_valid_q;
-    assign reply_o      = reply;
-    assign reply_n_o    = reply_n;
-    assign reply_data_o = reply_data;
+    assign reply_o      = known_q || (io_w_q && (in || long_q)) || (io_r_q && (!in || dev_host)) ||
+                          (pt_q && (!in || !started_q || long_q));
+    assign reply_n_o    = io_r_q ? (in ? 4'd3 : MSG_N[3:0]) : rn_q;
+    assign reply_data_o[31:24] = io_r_q ? (in ? CMD_DEV_VAL : CMD_MSG) : b0_q;
+    assign reply_data_o[23:16] = io_w_q ? (in ? MSG_CMD_INDEX_ERR : MSG_CMD_TOO_LONG) :
+                                 io_r_q ? (in ? {2'b00, dev_id_q} : MSG_CMD_INDEX_ERR) :
+                                 pt_q   ? (!in ? MSG_CMD_INDEX_ERR :
+                                           started_q ? MSG_CMD_TOO_LONG : MSG_TMR_CONFLICT) :
+                                 b1_q;
+    assign reply_data_o[15:8]  = ({8{cfg_rd_q}} & {pin_fixed_q, 2'b00, pin_cfg_q}) |
+                                 ({8{dbg_q}} & s2_d2_q) | {7'd0, io_r_q && pin_level_q};
+    assign reply_data_o[7:0]   = pkt_tail_i[39:32];   // only cmdDEBUG's echo sends it
+    // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).
+    assign dio_rflx_o   = io_r_q && in && dev_rflx;
     assign reply_tail_o = pkt_tail_i[31:0];
-    assign dio_rflx_o   = dio_rflx;
     assign dio_id_o     = dev_id_q;
     assign dio_val_o    = pin_level_q;
 

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Merges one fixed message packet `A, 2, 0x80, CODE` into a packet stream,
-// only between packets: while a packet of the stream is part-way out
-// (a byte has left, its tlast not yet), the message waits; while the message
-// is going out, the stream is held (s_axis_tready 0). Once the message's
-// first byte is offered it goes out whole. At a packet boundary a waiting
-// message goes first, unless a stream byte is already offered and stalled
-// (AXI-Stream: an offered byte stays offered until taken). req_i is a level; done_o pulses with the handshake of
-// the message's last byte.
+// only between packets: while a packet of the stream is part-way out (a byte
+// has left, its tlast not yet), the message waits; while the message is
+// going out, the stream is held (s_axis_tready 0). Once the message's first
+// byte is offered it goes out whole. At a packet boundary a waiting message
+// goes first, unless a stream byte is already offered and stalled
+// (AXI-Stream: an offered byte stays offered until taken). req_i is a level;
+// done_o pulses with the handshake of the message's last byte.
 module bsd_msg_merge #(
     parameter integer MODULE_ADDR = 2,
     parameter [7:0]   CODE        = 8'd0  // the message code, set by the instance (no default message)

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
-// Byte framing of host packets: address, N, d0 .. d(N-1).
-// Hands each complete packet that needs action to the executor as a
-// one-clock pulse with N and its data bytes (d0..d2 for the commands, d3..d7
-// for cmdDEBUG's echo). Packets for other
-// addresses are consumed silently; N > 8 resyncs on the next byte; a partial
-// packet is dropped after RX_TIMEOUT_US of waiting for a byte.
+// Byte framing of host packets: address, N, d0 .. d(N-1). Hands each
+// complete packet that needs action to the executor as a one-clock pulse with
+// N and its data bytes (d0..d2 for the commands, d3..d7 for cmdDEBUG's echo).
+// Packets for other addresses are consumed silently; N > 8 resyncs on the
+// next byte; a partial packet is dropped after RX_TIMEOUT_US of waiting for a
+// byte.
 module bsd_parser #(
     parameter integer MODULE_ADDR   = 2,
     parameter integer RX_TIMEOUT_US = 25_600

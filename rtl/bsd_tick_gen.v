@@ -42,8 +42,8 @@ module bsd_tick_gen #(
             localparam integer G   = gcd(CLK_HZ, RATE_HZ);
             localparam integer INC = RATE_HZ / G;
             localparam integer MOD = CLK_HZ / G;
-            // acc < MOD always, so acc + INC < 2 * MOD fits in W bits.
-            localparam integer W = $clog2(2 * MOD) + 1;
+            // acc < MOD always, so acc + INC <= MOD - 1 + INC fits in W bits.
+            localparam integer W = $clog2(MOD + INC);
             localparam [W-1:0] INC_W = INC[W-1:0];
             localparam [W-1:0] MOD_W = MOD[W-1:0];
 

@@ -16,29 +16,22 @@ module bsd_trans_latch (
     output wire fire_o     // one-clock pulse
 );
     reg armed_q;
-    reg prev_q;
+    reg prev_q;   // meaningful only while armed (an arm loads it): no reset
     reg fire_q;
 
     wire active = armed_q && ena_i && input_i && sample_i;
-    wire fire   = active && (level_i != prev_q) && (level_i == trg_i);
+    // A change from the previous sample to the TRG level.
+    wire hit    = (level_i == trg_i) && (prev_q != trg_i);
+    wire fire   = active && hit;
 
     assign fire_o = fire_q;
 
     always @(posedge clk) begin
-        fire_q <= 1'b0;
-        if (arm_i) begin
-            armed_q <= 1'b1;
-            prev_q  <= level_i;
-        end else if (active) begin
-            prev_q <= level_i;
-            if (fire) begin
-                armed_q <= 1'b0;
-                fire_q  <= 1'b1;
-            end
-        end
+        fire_q  <= fire && !arm_i;
+        armed_q <= arm_i || (armed_q && !fire);
+        if (arm_i || active) prev_q <= level_i;
         if (rst) begin
             armed_q <= 1'b0;
-            prev_q  <= 1'b0;
             fire_q  <= 1'b0;
         end
     end

@@ -10,10 +10,11 @@
 //   LEDR_N  alive blink (1/8 of each ~1.4 s); lit ~170 ms after a framing error or RX overflow
 //   BTN_N   optional reset; the design resets itself at power-up
 // The pads of the digital pins are SB_IO tristates with the internal pull-up
-// on, so an unconnected input reads 1; PMOD pins above NUM_PINS are inputs
-// with the pull-up. NUM_PINS 24 with TIMER_MASK 24'hFFFFFF puts a timer on
-// every PMOD pin (make bitstream BOARD=icebreaker24). This file instantiates iCE40 primitives
-// and is therefore kept out of rtl/ (the simulators build rtl/*.v).
+// on (synth/ice40_pads.v), so an unconnected input reads 1; PMOD pins above
+// NUM_PINS are inputs with the pull-up. NUM_PINS 24 with TIMER_MASK
+// 24'hFFFFFF puts a timer on every PMOD pin (make bitstream
+// BOARD=icebreaker24). This file instantiates iCE40 primitives and is
+// therefore kept out of rtl/ (the simulators build rtl/*.v).
 module icebreaker_top #(
     parameter integer CLK_HZ   = 12_000_000,
     parameter integer BAUD     = 9600,
@@ -79,28 +80,21 @@ module icebreaker_top #(
     wire unused_dio = ^{raw_trans, rflx_valid, rflx_id, rflx_data};
 
     // -------------------------------------------------- pads
-    // Pin p is on PMOD p / 8. Used pins: PIN_TYPE 1010_01, output enabled by
-    // OUTPUT_ENABLE, plain (unregistered) input, since the core synchronizes
-    // pin_i itself. Spare pins: 0000_01, input only.
+    // Pin p is on PMOD p / 8 (synth/ice40_pads.v); PMOD pins above NUM_PINS
+    // are spare inputs.
+    localparam integer USED_1A = NUM_PINS < 8 ? NUM_PINS : 8;
+    localparam integer USED_1B = NUM_PINS < 8 ? 0 : NUM_PINS < 16 ? NUM_PINS - 8 : 8;
+    localparam integer USED_2  = NUM_PINS < 16 ? 0 : NUM_PINS - 16;
     wire [24:0] oe_w = {{25 - NUM_PINS{1'b0}}, pin_oe};
     wire [24:0] o_w  = {{25 - NUM_PINS{1'b0}}, pin_o};
     wire [23:0] din;
-    genvar p;
-    generate
-        for (p = 0; p < 24; p = p + 1) begin : g_pad
-            localparam [5:0] TYPE = (p < NUM_PINS) ? 6'b1010_01 : 6'b0000_01;
-            if (p < 8) begin : g_p1a
-                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN(P1A[p]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
-            end else if (p < 16) begin : g_p1b
-                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN(P1B[p - 8]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
-            end else begin : g_p2
-                SB_IO #(.PIN_TYPE(TYPE), .PULLUP(1'b1)) u_io (
-                    .PACKAGE_PIN(P2[p - 16]), .OUTPUT_ENABLE(oe_w[p]), .D_OUT_0(o_w[p]), .D_IN_0(din[p]));
-            end
-        end
-    endgenerate
+
+    ice40_pads #(.WIDTH(8), .USED(USED_1A)) u_p1a (
+        .pad(P1A), .o(o_w[7:0]), .oe(oe_w[7:0]), .i(din[7:0]));
+    ice40_pads #(.WIDTH(8), .USED(USED_1B)) u_p1b (
+        .pad(P1B), .o(o_w[15:8]), .oe(oe_w[15:8]), .i(din[15:8]));
+    ice40_pads #(.WIDTH(8), .USED(USED_2)) u_p2 (
+        .pad(P2), .o(o_w[23:16]), .oe(oe_w[23:16]), .i(din[23:16]));
     assign pin_i = din[NUM_PINS-1:0];
     wire unused_pads = ^{oe_w[24], o_w[24], din};
 

@@ -131,7 +131,8 @@ def _family(family: str, top: str, pcf: str) -> tuple[Design, ...]:
     # nextpnr's Gowin back end places no IO by itself: the harness's 3 pins get a .cst.
     return (_core(5, 0b11110, family, True, pcf="core_wrap_gowin.cst" if family == "gowin" else None),
             _core(16, 0b11110, family), _core(16, 0xFFFF, family),
-            Design(FAMILIES[family].board, top, {}, 5, 4, top, family, ("board_status.v", f"{top}.v"), pcf, seeds=5))
+            Design(FAMILIES[family].board, top, {}, 5, 4, top, family,
+                   ("board_status.v", f"{family}_pads.v", f"{top}.v"), pcf, seeds=5))
 
 
 DESIGNS = (
@@ -141,10 +142,10 @@ DESIGNS = (
     Design("uart5", "brainstem_dio_uart", {"CLK_HZ": "12000000"}, 5, 4),
     # 64 x 64 with the serial link in one UP5K, the pads serialized by synth/uart_wrap.v.
     Design("uart64t", "uart_wrap", {"CLK_HZ": "12000000"}, 64, 64, "uart_wrap", sources=("uart_wrap.v",)),
-    Design("icebreaker", "icebreaker_top", {}, 5, 4, "icebreaker_top", sources=("icebreaker_top.v",),
-           pcf="icebreaker.pcf", seeds=5),
+    Design("icebreaker", "icebreaker_top", {}, 5, 4, "icebreaker_top",
+           sources=("ice40_pads.v", "icebreaker_top.v"), pcf="icebreaker.pcf", seeds=5),
     Design("icebreaker24", "icebreaker_top", {"NUM_PINS": "24", "TIMER_MASK": "24'hffffff"}, 24, 24,
-           "icebreaker_top", sources=("icebreaker_top.v",), pcf="icebreaker.pcf"),
+           "icebreaker_top", sources=("ice40_pads.v", "icebreaker_top.v"), pcf="icebreaker.pcf"),
     *_family("ecp5", "ulx3s_top", "ulx3s.lpf"), *_family("gowin", "tangnano9k_top", "tangnano9k.cst"),
 )
 SLOPES = (("core5", "core16"), ("core16", "core64"), ("core16", "core16t"), ("core64", "core64t"))

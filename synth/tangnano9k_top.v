@@ -9,9 +9,9 @@
 //   led_n[4]  ~170 ms after a framing error or an RX overflow
 //   led_n[5]  alive blink (the last eighth of every 1.24 s)
 //   btn_n     S1 (pin 4, low when pressed): optional reset; the design resets itself
-// The pads of the digital pins are Gowin IOBUF tristates; their pull-ups are set
-// in tangnano9k.cst (PULL_MODE=UP), so an unconnected input reads 1. IOBUF is a
-// Gowin primitive, so this file stays out of rtl/ (tb/lib/pads/IOBUF.v models it for the tests).
+// The pads of the digital pins are Gowin IOBUF tristates (synth/gowin_pads.v);
+// their pull-ups are set in tangnano9k.cst (PULL_MODE=UP), so an unconnected
+// input reads 1. IOBUF is a Gowin primitive, so this file stays out of rtl/.
 // CLK_HZ 27 MHz: 43.2 clocks per 1.6 us tick, exact on average (the tick generator's
 // phase accumulator: 5 ticks every 216 clocks); 9600 baud = 2813 clocks per bit (0.01 % slow).
 module tangnano9k_top #(
@@ -70,21 +70,15 @@ module tangnano9k_top #(
     wire unused_dio = ^{raw_trans, rflx_valid, rflx_id, rflx_data};
 
     // -------------------------------------------------- pads
-    genvar p;
-    generate
-        for (p = 0; p < 8; p = p + 1) begin : g_pad
-            wire din;
-            if (p < NUM_PINS) begin : g_pin
-                // OEN = 1: not driven. Plain input; the core synchronizes pin_i.
-                IOBUF u_io (.I(pin_o[p]), .OEN(!pin_oe[p]), .O(din), .IO(io[p]));
-                assign pin_i[p] = din;
-            end else begin : g_spare
-                // Spare header pins: inputs with the pull-up, never driven.
-                IOBUF u_io (.I(1'b0), .OEN(1'b1), .O(din), .IO(io[p]));
-                wire unused_din = din;
-            end
-        end
-    endgenerate
+    // Pin p on io[p]; header pins above NUM_PINS are spare inputs.
+    // (One bit wider than the header, so the zero fill is never empty.)
+    wire [8:0] o_w  = {{9 - NUM_PINS{1'b0}}, pin_o};
+    wire [8:0] oe_w = {{9 - NUM_PINS{1'b0}}, pin_oe};
+    wire [7:0] pad_i;
+    gowin_pads #(.WIDTH(8), .USED(NUM_PINS)) u_pads (
+        .pad(io), .o(o_w[7:0]), .oe(oe_w[7:0]), .i(pad_i));
+    assign pin_i = pad_i[NUM_PINS-1:0];
+    wire unused_pads = ^{o_w[8], oe_w[8], pad_i};
 
     assign led_n = ~{alive, err, 2'b00, act, link_up};
 endmodule

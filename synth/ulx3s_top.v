@@ -10,9 +10,9 @@
 //   led[7]     alive blink (the last eighth of every 1.34 s)
 //   btn_pwr_n  BTN_PWR (D6, low when pressed): optional reset; the design resets itself
 //   wifi_gpio0 held high, so the ESP32 stays out of its boot loader
-// The pads of the digital pins are ECP5 BB tristates; their pull-ups are set in
-// ulx3s.lpf (PULLMODE=UP), so an unconnected input reads 1. BB is an ECP5
-// primitive, so this file stays out of rtl/ (tb/lib/pads/BB.v models it for the tests).
+// The pads of the digital pins are ECP5 BB tristates (synth/ecp5_pads.v); their
+// pull-ups are set in ulx3s.lpf (PULLMODE=UP), so an unconnected input reads 1.
+// BB is an ECP5 primitive, so this file stays out of rtl/.
 // CLK_HZ 25 MHz: 40 clocks per 1.6 us tick, exact; 9600 baud = 2604 clocks per bit (0.006 % fast).
 module ulx3s_top #(
     parameter integer CLK_HZ   = 25_000_000,
@@ -71,21 +71,15 @@ module ulx3s_top #(
     wire unused_dio = ^{raw_trans, rflx_valid, rflx_id, rflx_data};
 
     // -------------------------------------------------- pads
-    genvar p;
-    generate
-        for (p = 0; p < 8; p = p + 1) begin : g_pad
-            wire din;
-            if (p < NUM_PINS) begin : g_pin
-                // T = 1: not driven. Plain input; the core synchronizes pin_i.
-                BB u_io (.I(pin_o[p]), .T(!pin_oe[p]), .O(din), .B(gp[p]));
-                assign pin_i[p] = din;
-            end else begin : g_spare
-                // Spare header pins: inputs with the pull-up, never driven.
-                BB u_io (.I(1'b0), .T(1'b1), .O(din), .B(gp[p]));
-                wire unused_din = din;
-            end
-        end
-    endgenerate
+    // Pin p on gp[p]; header pins above NUM_PINS are spare inputs.
+    // (One bit wider than the header, so the zero fill is never empty.)
+    wire [8:0] o_w  = {{9 - NUM_PINS{1'b0}}, pin_o};
+    wire [8:0] oe_w = {{9 - NUM_PINS{1'b0}}, pin_oe};
+    wire [7:0] pad_i;
+    ecp5_pads #(.WIDTH(8), .USED(NUM_PINS)) u_pads (
+        .pad(gp), .o(o_w[7:0]), .oe(oe_w[7:0]), .i(pad_i));
+    assign pin_i = pad_i[NUM_PINS-1:0];
+    wire unused_pads = ^{o_w[8], oe_w[8], pad_i};
 
     assign led        = {alive, err, 4'b0000, act, link_up};
     assign wifi_gpio0 = 1'b1;

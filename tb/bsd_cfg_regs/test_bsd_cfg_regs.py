@@ -61,14 +61,16 @@ class CfgModel:
                 self.out[p] = v["out_wdata_i"]
 
     def outputs(self) -> dict[str, int]:
+        # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0.
         return dict(cfg_o=sum(c << (5 * p) for p, c in enumerate(self.cfg)),
-                    out_o=sum(o << p for p, o in enumerate(self.out)))
+                    out_o=sum(o << p for p, o in enumerate(self.out)),
+                    oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)))
 
 
 class CfgTB(ClockedTB):
     INPUTS = dict(cfg_we_i=0, out_we_i=0, pin_idx_i=0, cfg_wdata_i=0, out_wdata_i=0)
     PULSES = ("cfg_we_i", "out_we_i")
-    OUTPUTS = ("cfg_o", "out_o")
+    OUTPUTS = ("cfg_o", "out_o", "oe_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "cfg_regs")

@@ -23,7 +23,7 @@ from uart_line import now_ps
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
               pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
-              led_active_low=True, extra_sources=())
+              led_active_low=True, extra_sources=("ice40_pads.v",))
 PINS = 24
 # Build names of their own: the 5-pin top's tests build the same toplevel.
 BUILDS = {f"p24b{baud}": {"CLK_HZ": BOARD.clk_hz, "BAUD": baud, "NUM_PINS": PINS, "TIMER_MASK": f"{PINS}'hffffff"}
@@ -42,8 +42,8 @@ async def test_board24_session(dut) -> None:
     pull_ups = (1 << PINS) - 1
     link = BoardLink(dut, BOARD, p, baud, pull_ups)
     model, sink, frame_ps = link.model, link.sink, link.frame_ps
-    # The pad of the timed pin: PMOD 2, bit 7 (generate block g_pad[23].g_p2).
-    header = dut.g_pad[TIMED_PIN].g_p2.u_io.ext
+    # The pad of the timed pin: PMOD 2, bit 7 (its shim u_p2, generate block g_pad[7]).
+    header = dut.u_p2.g_pad[TIMED_PIN - 16].u_io.ext
 
     await ClockCycles(dut.CLK, 2)
     await link.expect(model.reset(pull_ups).packets, "power-up")

@@ -16,7 +16,7 @@ import runner
 
 BOARD = Board(top="icebreaker_top", clk_hz=12_000_000, clk="CLK", rx="RX", tx="TX", btn="BTN_N",
               pads="P1A", pad_model="SB_IO", led_link=("LEDG_N", 0), led_act=None,
-              led_active_low=True, extra_sources=())
+              led_active_low=True, extra_sources=("ice40_pads.v",))
 BUILDS = builds(BOARD)
 
 

@@ -16,7 +16,7 @@ import runner
 
 BOARD = Board(top="tangnano9k_top", clk_hz=27_000_000, clk="clk", rx="uart_rx", tx="uart_tx", btn="btn_n",
               pads="io", pad_model="IOBUF", led_link=("led_n", 0), led_act=("led_n", 1),
-              led_active_low=True, extra_sources=("board_status.v",))
+              led_active_low=True, extra_sources=("board_status.v", "gowin_pads.v"))
 BUILDS = builds(BOARD)
 
 

@@ -16,7 +16,7 @@ import runner
 
 BOARD = Board(top="ulx3s_top", clk_hz=25_000_000, clk="clk_25mhz", rx="ftdi_txd", tx="ftdi_rxd", btn="btn_pwr_n",
               pads="gp", pad_model="BB", led_link=("led", 0), led_act=("led", 1),
-              led_active_low=False, extra_sources=("board_status.v",))
+              led_active_low=False, extra_sources=("board_status.v", "ecp5_pads.v"))
 BUILDS = builds(BOARD)
 
 
