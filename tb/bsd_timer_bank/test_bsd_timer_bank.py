@@ -191,7 +191,7 @@ async def test_completion_wins_on_timeout_clock(dut) -> None:
     assert out["ev_f_o"] & 0b11 == 0b11 and out["ev_r_o"] & 0b11 == 0b10
 
 
-@SUITE.test()
+@cocotb.test()
 async def test_pulse_begin_on_timeout_clock(dut) -> None:
     """A width-mode pulse that begins on the timeout clock: the run times out (ev_r and
     ev_f together, result 0), not a reference that would leave the timer waiting forever."""
