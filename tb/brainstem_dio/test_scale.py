@@ -381,8 +381,10 @@ async def test_every_pin_output_and_latch(dut) -> None:
     """Each of the 64 pins in turn: an output driven 1 then 0 (pin_o and pin_oe against the
     model after each command), then an input with its latch armed for
     rising edges, fired by its own pad (raw_trans against the model), then a plain input
-    again. Deterministic, so every pin's configuration bits, output latch and raw_trans
-    toggle whatever the seed (the other tests here use the pins only as timer inputs)."""
+    again; last, RFLX reads of pins 63 and 0 (a DIG_IO value ranked after every timer ID,
+    then before all but ID 0). Deterministic, so every pin's configuration bits, output
+    latch and raw_trans, and the drain's timer-before-value bits, toggle whatever the seed
+    (the other tests here use the pins only as timer inputs)."""
     from bsd_model import CMD_DIG_IO, DIGCFG_ENA, DIGCFG_TRG
     from top_helpers import set_pins_checked
     tb, m = await setup(dut, pins=0)
@@ -401,6 +403,11 @@ async def test_every_pin_output_and_latch(dut) -> None:
     await set_pins_checked(tb, m, 0)                       # a fall: nothing
     for pin in free:
         await configure(tb, m, pin, DIGCFG_IODIR)
+    await set_pins_checked(tb, m, 1 << 63)
+    n_rflx = len(tb.rflx)
+    for pin in (63, 0, 63, 0):                             # the strobes checked by tb.command
+        await tb.command(m, packet(A, CMD_DIG_IO, DEVCODE_RFLX | pin))
+    assert len(tb.rflx) == n_rflx + 4, tb.rflx[n_rflx:]
     tb.check_no_errors()
 
 
