@@ -211,7 +211,8 @@ test-time: $(STAMP)
 # make coverage: Verilator line, toggle and branch coverage of rtl/ over the regression's
 # Verilator cases (deep ones too), coverage builds in their own folders (`...-cov`), one data
 # file per run, merged -> sim_build/coverage/ (merged.dat, summary.md, fcov.md, src/: annotated
-# sources; tools/coverage.py, exceptions in tools/coverage_waivers.toml).
+# sources; tools/coverage.py). Constant points are excluded in rtl/ (coverage_off); the few
+# the source cannot exclude are named by signal in tools/coverage_waivers.toml.
 # Fails when a module is below target without a named exception. COVERAGE_ARGS: e.g. --no-run.
 COVERAGE_ARGS ?=
 .PHONY: coverage

@@ -165,7 +165,10 @@ module bsd_parser #(
                 4'd5:    pkt_tail_q[23:16] <= s_axis_tdata;
                 4'd6:    pkt_tail_q[15:8]  <= s_axis_tdata;
                 4'd7:    pkt_tail_q[7:0]   <= s_axis_tdata;
+                // cnt_q is 0..7 in ST_DATA (N > 8 never gets there): never runs.
+                /* verilator coverage_off */
                 default: ;
+                /* verilator coverage_on */
             endcase
         end
 

@@ -2,15 +2,17 @@
 """Code coverage of rtl/ over the Verilator regression: `make coverage`.
 
 Runs the regression's Verilator cases (deep ones too) with BSD_COVERAGE=1 (tb/lib/runner.py
-builds each model with line, branch and toggle coverage, each run writes its own file into
---dat) and BSD_FCOV_DIR (then tools/fcov_report.py --check). Merges the files (a point is
-module, file, line, column, type, comment: the instances add up), and per rtl/ module gives
-line % (source lines with a block or branch point, covered when any point on it ran),
-branch % and toggle % (each bit's 0->1 and 1->0), checked against the targets and the named
-exceptions of tools/coverage_waivers.toml: a module below a target passes only when every
-point it leaves uncovered is named, and a waiver that names no uncovered point is an error.
+builds each model with line and toggle coverage, each run writes its own file into --dat) and
+BSD_FCOV_DIR (then tools/fcov_report.py --check). Merges the files (a point is module, file,
+line, column, type, comment: instances and builds add up), and per rtl/ module gives line %
+(source lines with a block or branch point, covered when any point on it ran), branch % and
+toggle % (each bit's 0->1 and 1->0), against the targets. What is constant by construction is
+left out in the source (`/* verilator coverage_off */` ... `coverage_on`); tools/coverage_waivers.toml
+names, by module and signal, the toggle points the source cannot exclude (some bits of a
+signal whose other bits toggle). A module below a target passes only when every point it
+leaves uncovered is named there, and a waiver that names no uncovered point is an error.
 Writes sim_build/coverage/: merged.dat, summary.md (printed too), fcov.md, src/<module>.v.txt
-(each source line with its count, `!` where uncovered, `~` where waived).
+(each source line with its count, `!` where uncovered).
 
     .venv/bin/python tools/coverage.py            # what make coverage runs
     .venv/bin/python tools/coverage.py --no-run   # report on the data files already there
@@ -123,40 +125,28 @@ def glob_regex(pattern: str) -> re.Pattern[str]:
 @dataclass(frozen=True)
 class Waiver:
     module: str
-    kind: str
-    where: str    # line/branch: `61-66,70` (branch: optionally ` else`); toggle: a bit pattern
+    signal: str   # a toggle point's signal or bit: `*` any text, `?` one character, [] literal
     reason: str
 
-    @property
-    def lines(self) -> tuple[int, ...]:
-        return () if self.kind == "toggle" else tuple(_numbers(self.where.split()[0]))
-
     def matches(self, p: Point) -> bool:
-        if (p.module, p.kind) != (self.module, self.kind):
-            return False
-        if self.kind == "toggle":
-            return bool(glob_regex(self.where).fullmatch(p.signal) or glob_regex(self.where).fullmatch(p.comment))
-        arm = self.where.split()[1:]
-        return bool(set(p.lines() if self.kind == "line" else [p.line]) & set(self.lines)) and arm in ([], [p.comment])
+        return (p.module, p.kind) == (self.module, "toggle") and any(
+            glob_regex(self.signal).fullmatch(x) for x in (p.signal, p.comment))
 
 
 def parse_waivers(text: str, where: str = "waivers") -> list[Waiver]:
-    """`waiver = [[module, kind, where, reason], ...]`; UsageError on any mistake."""
+    """`[module]` tables of `"signal pattern" = "reason"`; UsageError on any mistake."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise UsageError(f"{where}: {e}") from None
-    if set(data) - {"waiver"}:
-        raise UsageError(f"{where}: unknown keys {sorted(set(data) - {'waiver'})} (only `waiver = [...]`)")
     out = []
-    for i, w in enumerate(data.get("waiver", []), 1):
-        if not (isinstance(w, list) and len(w) == 4 and all(isinstance(x, str) and x.strip() for x in w)):
-            raise UsageError(f"{where}: waiver {i}: not [module, kind, where, reason] (four non-empty strings)")
-        if w[1] not in KINDS:
-            raise UsageError(f"{where}: waiver {i}: kind {w[1]!r} is not one of {', '.join(KINDS)}")
-        if w[1] != "toggle" and not re.fullmatch(r"\d+(-\d+)?(,\d+(-\d+)?)*" + (r"( \w+)?" if w[1] == "branch" else ""), w[2]):
-            raise UsageError(f"{where}: waiver {i}: a {w[1]} waiver names lines (`61-66,70`), not {w[2]!r}")
-        out.append(Waiver(w[0], w[1], w[2], " ".join(w[3].split())))
+    for module, table in data.items():
+        if not isinstance(table, dict):
+            raise UsageError(f"{where}: {module!r} is not a [module] table of \"signal\" = \"reason\"")
+        for signal, reason in table.items():
+            if not (isinstance(reason, str) and reason.strip()):
+                raise UsageError(f"{where}: [{module}] {signal!r}: the reason is not a non-empty string")
+            out.append(Waiver(module, signal, " ".join(reason.split())))
     return out
 
 
@@ -208,8 +198,7 @@ def module_reports(counts: Counts, waivers: Sequence[Waiver]) -> dict[str, Modul
                 what = f"`{p.comment}`" if p.kind == "toggle" else f"line {p.line} ({p.comment})"
                 metrics[p.kind].count(c > 0, what, next((w for w in waivers if w.matches(p)), None))
         for n, c in sorted(line_counts.items()):
-            metrics["line"].count(c > 0, f"line {n}", next((w for w in waivers if w.kind == "line"
-                                                            and w.module == module and n in w.lines), None))
+            metrics["line"].count(c > 0, f"line {n}", None)
         out[module] = ModuleReport(module, pts[0][0].file, metrics, line_counts)
     return out
 
@@ -264,20 +253,19 @@ def markdown(reports: Mapping[str, ModuleReport], targets: Mapping[str, float], 
             *(unnamed or ["- none"])]
     if stale:
         out += ["", "Waivers that match no uncovered point (delete them):", "",
-                *(f"- `{w.module}` {w.kind} {w.where}" for w in stale)]
+                *(f"- `{w.module}` `{w.signal}`" for w in stale)]
     return "\n".join(out) + "\n"
 
 
 def write_sources(reports: Mapping[str, ModuleReport], out: Path) -> None:
-    """Each module's source with its counts: `!` uncovered, `~` uncovered but waived."""
+    """Each module's source with its counts, `!` where a line or branch point is uncovered."""
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
     for r in reports.values():
-        waived = {int(what.split()[1]) for k in ("line", "branch") for what, w in r.metrics[k].missed if w}
-        missed = {int(what.split()[1]) for k in ("line", "branch") for what, w in r.metrics[k].missed if not w}
+        missed = {int(what.split()[1]) for k in ("line", "branch") for what, _ in r.metrics[k].missed}
         src = (ROOT / r.file).read_text(errors="replace").splitlines() if (ROOT / r.file).is_file() else []
         (out / f"{r.module}.v.txt").write_text("".join(
-            f"{'!' if n in missed else '~' if n in waived else ' '}{r.line_counts.get(n, ''):>9} {n:5} {line}\n"
+            f"{'!' if n in missed else ' '}{r.line_counts.get(n, ''):>9} {n:5} {line}\n"
             for n, line in enumerate(src, 1)))
 
 

@@ -354,6 +354,63 @@ async def test_latencies(dut) -> None:
     tb.check_no_errors()
 
 
+@cocotb.test(skip=not runner.on("t64_2"))
+async def test_64_timeouts_then_restart(dut) -> None:
+    """All 64 edge-mode timers time out (pads never reach the target): 64 results of 0 by
+    ascending pin (each timeout's clock, ties by pin), every timer's timed-out flag set; then
+    every timer started again clears its flag. Deterministic, unlike the timeouts of the
+    random tests: each timer's timed-out flag rises and falls whatever the seed."""
+    need(P.timer_mask == ALL, "a timer on every pin")
+    tb, m = await setup(dut, pins=0)
+    await start_all(tb, m, DIGCFG_IODIR | DIGCFG_TSTATE)        # edge mode, to 1; pads stay 0
+    await tb.wait_s(TIMER_MAX_TICKS / TICK_HZ + 1e-3)
+    exp = Output()
+    for pin in range(P.num_pins):
+        exp.extend(m.timer_complete(pin, 0))
+    await tb.expect(exp, what="64 timeouts")
+    assert int(dut.u_timers.timed_out_o.value) == ALL, f"timed out: {int(dut.u_timers.timed_out_o.value):064b}"
+    for pin in range(P.num_pins):
+        await tb.command(m, packet(A, CMD_PTIME_RD, FLAGS | pin))
+    await tb.cycles(10)
+    assert int(dut.u_timers.timed_out_o.value) == 0, f"timed out: {int(dut.u_timers.timed_out_o.value):064b}"
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=not runner.on("t64_2"))
+async def test_every_pin_output_and_latch(dut) -> None:
+    """Each of the 64 pins in turn: an output driven 1 then 0 (pin_o and pin_oe against the
+    model after each command), then an input with its latch armed for
+    rising edges, fired by its own pad (raw_trans against the model), then a plain input
+    again; last, RFLX reads of pins 63 and 0 (a DIG_IO value ranked after every timer ID,
+    then before all but ID 0). Deterministic, so every pin's configuration bits, output
+    latch and raw_trans, and the drain's timer-before-value bits, toggle whatever the seed
+    (the other tests here use the pins only as timer inputs)."""
+    from bsd_model import CMD_DIG_IO, DIGCFG_ENA, DIGCFG_TRG
+    from top_helpers import set_pins_checked
+    tb, m = await setup(dut, pins=0)
+    free = P.free_pins
+    need(len(free) == 64, "64 configurable pins")
+    for pin in free:
+        await configure(tb, m, pin, 0)                     # an output
+        for v in (1, 0):
+            await tb.command(m, packet(A, CMD_DIG_IO, pin, v))
+            tb.check_pins(m)
+            assert (m.pin_o() >> pin & 1) == v, f"the model's pin {pin} is not {v}"
+    for pin in free:
+        await configure(tb, m, pin, DIGCFG_IODIR | DIGCFG_ENA | DIGCFG_TRG)
+    for pin in free:
+        await set_pins_checked(tb, m, tb.pins | 1 << pin)  # its latch fires
+    await set_pins_checked(tb, m, 0)                       # a fall: nothing
+    for pin in free:
+        await configure(tb, m, pin, DIGCFG_IODIR)
+    await set_pins_checked(tb, m, 1 << 63)
+    n_rflx = len(tb.rflx)
+    for pin in (63, 0, 63, 0):                             # the strobes checked by tb.command
+        await tb.command(m, packet(A, CMD_DIG_IO, DEVCODE_RFLX | pin))
+    assert len(tb.rflx) == n_rflx + 4, tb.rflx[n_rflx:]
+    tb.check_no_errors()
+
+
 @pytest.mark.parametrize("sim, build", runner.cases(
     ["gp1", "t64_2", "t64_2p5", "t64_12", "t64_48"], quick="verilator", deep=["t64_2p5", "t64_12"]))
 def test_scale_top(sim: str, build: str) -> None:

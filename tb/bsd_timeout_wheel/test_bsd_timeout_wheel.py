@@ -124,6 +124,33 @@ async def test_all_at_once(dut) -> None:
     assert tb.timeouts == n
 
 
+@cocotb.test(skip=not runner.on("t4", "t12"))
+async def test_every_slot_every_timer(dut) -> None:
+    """Every timer is inserted into (and cleared from) each of the 64 wheel slots: 64 rounds,
+    round r starts every timer on consecutive clocks from T = 64 * r + r (so round r's
+    timers land in slots r, r + 1, ...), then (the starts stored) T jumps (t_i is an input) to 80 ticks before
+    their timeouts, and every timer must time out on its own tick (checked by clk1).
+    Deterministic: each slot's bit of each timer is set and cleared whatever the seed."""
+    tb = WheelTB(dut)
+    await tb.reset()
+    n = tb.n
+    for r in range(64):
+        while tb.clock % 3 != 0:                       # start on a tick's clock
+            await tb.clk1()
+        tb.t = (64 * r + r - 1) & 0xFFFF                # this clock's tick makes T = 65 r
+        for k in range(n):
+            await tb.clk1(k)
+        for _ in range(6):                              # the last start's T is stored
+            await tb.clk1()
+        tb.t = (min(tb.start_t) - 1 - 80) & 0xFFFF
+        for _ in range(3 * 200):
+            await tb.clk1()
+            if not any(tb.run):
+                break
+        assert not any(tb.run), f"round {r}: timers {[k for k in range(n) if tb.run[k]]} never timed out"
+    assert tb.timeouts == 64 * n, tb.timeouts
+
+
 @pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator", deep=["t12-deep"]))
 def test_bsd_timeout_wheel(sim: str, build: str) -> None:
     runner.run(sim, "bsd_timeout_wheel", __file__, BUILDS[build], build)

@@ -108,7 +108,7 @@ def test_a_line_is_missed_only_when_no_point_on_it_ran() -> None:
     assert [w for w, _ in lm.missed] == ["line 21", "line 22"]
 
 
-WAIVERS = 'waiver = [["m", "toggle", "q[0]", "q[0] is  constant\\nafter reset"]]\n'
+WAIVERS = '[m]\n"q[0]" = "q[0] is  constant\\nafter reset"\n'
 
 
 def test_a_named_exception_passes_a_module_below_target() -> None:
@@ -123,20 +123,25 @@ def test_a_named_exception_passes_a_module_below_target() -> None:
 
 
 def test_a_waiver_that_matches_nothing_is_stale() -> None:
-    waivers = parse_waivers(WAIVERS.replace("]]", '], ["m", "line", "10", "r"], ["m", "branch", "11 if", "r"]]'))
+    waivers = parse_waivers(WAIVERS + '"q[1]" = "r"\n"z*" = "r"\n')
     reports = module_reports(merge([parse_dat(RUN_A), parse_dat(RUN_B)]), waivers)
     stale = stale_waivers(reports, waivers)
-    assert [(w.kind, w.lines) for w in stale] == [("line", (10,)), ("branch", (11,))]   # line 10, the if ran
+    assert [w.signal for w in stale] == ["q[1]", "z*"]    # q[1] rose, and no z was missed
     assert not overall(reports, TARGETS, stale)
 
 
+def test_a_waiver_names_only_toggle_points() -> None:
+    """Lines and branches are excluded in the source (coverage_off), never by a waiver."""
+    pts = parse_dat(dat(rec("rtl/m.v", 10, 5, "line", "block", 0, "10")))
+    waivers = parse_waivers('[m]\n"*" = "r"\n')
+    assert module_reports(pts, waivers)["m"].metrics["line"].missed == [("line 10", None)]
+
+
 @pytest.mark.parametrize("text,message", [
-    ('waiver = [["m", "line", "3"]]', "four non-empty strings"),
-    ('waiver = [["m", "fsm", "3", "r"]]', "not one of"),
-    ('waiver = [["m", "line", "q[0]", "r"]]', "names lines"),
-    ('waiver = [["m", "line", "3 else", "r"]]', "names lines"),
-    ('waiver = []\nwhy = 1', "unknown keys"),
-    ("waiver = [", "waivers"),
+    ('m = "r"', "not a \\[module\\] table"),
+    ('[m]\n"q" = ""', "not a non-empty string"),
+    ('[m]\n"q" = 3', "not a non-empty string"),
+    ("[m", "waivers"),
 ])
 def test_bad_waivers_are_refused(text: str, message: str) -> None:
     with pytest.raises(UsageError, match=message):
@@ -184,12 +189,10 @@ def test_toggle_misses_are_listed_by_signal() -> None:
     assert coverage._compact(items) == "`d` (6 bits), `q (1->0)`, `r[2]`"
 
 
-def test_annotated_source_marks_uncovered_and_waived_lines(tmp_path: Path) -> None:
+def test_annotated_source_marks_uncovered_lines(tmp_path: Path) -> None:
     pts = parse_dat(dat(rec("rtl/bsd_sync.v", 3, 1, "line", "block", 4, "3"),
-                        rec("rtl/bsd_sync.v", 4, 1, "line", "block", 0, "4"),
-                        rec("rtl/bsd_sync.v", 5, 1, "line", "block", 0, "5")))
-    reports = module_reports(pts, parse_waivers('waiver = [["bsd_sync", "line", "5", "r"]]'))
-    coverage.write_sources(reports, tmp_path)
+                        rec("rtl/bsd_sync.v", 4, 1, "line", "block", 0, "4")))
+    coverage.write_sources(module_reports(pts, []), tmp_path)
     lines = (tmp_path / "bsd_sync.v.txt").read_text().splitlines()
     assert lines[2].startswith("         4     3 ") and lines[3].startswith("!        0     4 ")
-    assert lines[4].startswith("~        0     5 ") and lines[0].startswith(" " * 15 + "1 ")
+    assert lines[0].startswith(" " * 15 + "1 ")
