@@ -65,6 +65,7 @@ from bsd_protocol import (
     CMD_HB,
     CMD_MSG,
     CMD_PTIME_RD,
+    CMD_RESET,
     DIGCFG_ENA,
     DIGCFG_IODIR,
     DIGCFG_TRG,
@@ -90,12 +91,12 @@ FORMAT = 1
 
 # The commands and messages the coverpoints name, by the protocol table's names.
 _CMD = {c: COMMAND_TEXT[c].removeprefix("cmd") for c in (CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD, CMD_HB,
-                                                         CMD_DEBUG)}
+                                                         CMD_DEBUG, CMD_RESET)}
 _MSG = {c: MESSAGE_TEXT[c] for c in (MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_INDEX_ERR, MSG_TMR_CONFLICT,
                                      MSG_CMD_TOO_SHORT, MSG_SERIAL_ERROR, MSG_CONFIG_ERR)}
 _TICK_S = 1.0 / TICK_HZ
 
-COMMANDS = ("DIG_CFG", "DIG_IO", "DIG_RST", "PTIME_RD", "HB", "DEBUG", "invalid", "none")
+COMMANDS = ("DIG_CFG", "DIG_IO", "DIG_RST", "PTIME_RD", "HB", "DEBUG", "RESET", "invalid", "none")
 FORMS = tuple(str(n) for n in range(10))
 OUTCOMES = ("none", "reply") + tuple(_MSG[c] for c in sorted(_MSG))
 PIN_KINDS = ("input", "output", "fixed", "timer", "no_timer", "out_of_range", "-")
