@@ -74,6 +74,7 @@
             assert(f_taken <= f_items);
             if (next) assert(f_taken + {1'b0, f_takes} == f_items);
             assert(ev_ready_o == next);
+            assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
         end
     end
 

@@ -43,6 +43,29 @@
         end
     end
 
+    reg [7:0]  f_byte;
+    reg [15:0] f_sel;
+    integer    f_i;
+    always @(*) begin
+        case (f_kind)
+            2'd0: case (f_pos)
+                4'd2: f_byte = CMD_DEV_VAL;
+                4'd3: f_byte = {2'b00, id_q};
+                4'd4: f_byte = result_q[15:8];
+                default: f_byte = result_q[7:0];
+            endcase
+            2'd1: f_byte = f_pos >= 4'd9 ? f_rt[7:0] : {f_rd, f_rt} >> (8 * (4'd9 - f_pos));
+            default: f_byte = f_pos == 4'd2 ? CMD_HB : f_ht;
+        endcase
+        f_sel = 16'd0;
+        f_sel[15] = f_pos == 4'd0;
+        f_sel[14] = f_pos == 4'd1;
+        if (f_kind == 2'd0) f_sel[13:10] = 4'b1000 >> (f_pos - 4'd2);
+        for (f_i = 0; f_i < 8; f_i = f_i + 1)
+            f_sel[2 + f_i] = f_kind == 2'd1 && (f_i < 7 ? f_pos == f_i + 2 : f_pos >= 4'd9);
+        if (f_kind == 2'd2) f_sel[1:0] = {f_pos == 4'd2, f_pos == 4'd3};
+    end
+
     always @(*) begin
         if (!f_past_valid) assume(rst);
         if (f_past_valid && !f_rst_q && f_iv_q && !f_ir_q) assume(item_valid_i && item_data_i == f_id_q);
@@ -66,6 +89,13 @@
                 assert(f_pos <= f_n + 4'd1);
                 if (f_pos == 4'd0) assert(m_axis_tdata == MODULE_ADDR[7:0]);
                 if (f_pos == 4'd1) assert(m_axis_tdata == {4'd0, f_n});
+                // the data bytes: each source's, by position
+                if (f_kind == 2'd2) assert(hb_type_q == f_ht && f_n == 4'd2);
+                if (f_kind == 2'd0) assert(f_n == 4'd4);
+                if (f_pos >= 4'd2) assert(m_axis_tdata == f_byte);
+                // the byte flags: exactly the byte offered
+                assert({sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q, sel_rep_q,
+                        sel_hcmd_q, sel_htype_q} == f_sel);
             end
             if (item_ready_o) assert(!f_busy || (f_hs && m_axis_tlast));
             assert((timer_done_o || reply_done_o || hb_done_o) == (f_hs && m_axis_tlast));

@@ -5,8 +5,8 @@
 // module (HB_RATE 10 = 256 ms). Everything else is the core's contract.
 //
 // RX FIFO: bytes that arrive while the core holds its input (a reply still
-// waiting for the slower serial output) are kept, FIFO_DEPTH + 3 of them
-// (the RAM, the FIFO's output register, the register slice in front of the core).
+// waiting for the slower serial output) are kept, FIFO_DEPTH + 4 of them
+// (the RAM, the FIFO's read and skid registers, the register slice in front of the core).
 // A byte that finds the FIFO full is dropped (rx_overflow pulses) and the
 // message cmdQOverflow `A, 2, 0x80, 12` is sent, once per overflow burst:
 // a burst starts with a dropped byte and ends when the FIFO has emptied.
@@ -80,7 +80,7 @@ module brainstem_dio_uart #(
     // A register slice between the FIFO and the core, so that the core's
     // s_axis_tready (the parser's state and the executor's hold) drives only
     // the slice's enables, not the FIFO's block-RAM read.
-    // It holds one more byte, so the input keeps FIFO_DEPTH + 3 in all.
+    // It holds one more byte, so the input keeps FIFO_DEPTH + 4 in all.
     wire [7:0] core_s_tdata;
     wire       core_s_tvalid, core_s_tready;
 

@@ -37,7 +37,7 @@ module bsd_drain #(
     input  wire                       ev_valid_i,
     input  wire [2*NT+25:0]           ev_data_i,    // {r, f, reply, dio, hb, dio ID, dio level, T}
     output wire                       ev_ready_o,
-    output wire                       empty_o,      // no item left (from flops only)
+    output wire                       empty_o,      // no item left (a flop)
     // the timers' delivery flags (bsd_timer_bank)
     input  wire [NT-1:0]              host_pend_i,
     input  wire [NT-1:0]              rflx_pend_i,
@@ -157,9 +157,11 @@ module bsd_drain #(
     wire                take_rep  = !any_t && !dio_q && rep_q;
     wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
     // Items left after this clock's: when none, the next entry is taken now
-    // (an item every clock, entries back to back). "Two timers or more" by a
-    // tree of 4-bit groups (any, two or more) instead of the pick's carry
-    // chain, which keeps the queue's pop (ev_ready_o) short.
+    // (an item every clock, entries back to back). A clock with an item takes
+    // exactly one, so items are left when the entry has two or more, whichever
+    // is picked: counted on the entry's bits, beside the pick, not after it.
+    // "Two timers or more" by a tree of 4-bit groups (any, two or more), not
+    // a carry chain, which keeps the queue's pop (ev_ready_o) short.
     function two_or_more(input [NT-1:0] v);
         integer lvl, i, j, c;
         reg [63:0] any, two, any_n, two_n;
@@ -184,13 +186,18 @@ module bsd_drain #(
             two_or_more = two[0];
         end
     endfunction
-    wire                more_t    = take_t ? two_or_more(rem) : any_t;
-    wire                more      = more_t || (dio_q && !take_dio) || (rep_q && !take_rep) ||
-                                    (hb_q && !take_hb);
+    wire                more      = two_or_more(rem) || (any_t && (dio_q || rep_q || hb_q)) ||
+                                    (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
     wire                next      = !more;
 
     assign ev_ready_o = next;
-    assign empty_o    = !any_t && !dio_q && !rep_q && !hb_q;
+    // "No item left" as a flop of its own (not the OR of the entry's bits): it
+    // gates the queue's write enable, whose full/empty logic then starts at a
+    // flop. Items remain after a clock that takes no entry; after one that
+    // does, the new entry's own.
+    reg                 empty_q;
+    wire                ev_items  = |ev_data_i[2*NT+25:23];
+    assign empty_o    = empty_q;
 
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
@@ -253,6 +260,7 @@ module bsd_drain #(
             if (take_rep) rep_q <= 1'b0;
             if (take_hb) hb_q <= 1'b0;
         end
+        empty_q <= next && !(ev_valid_i && ev_items);
         a_t_q   <= take_t;
         a_r_q <= |(r_q & low);
         a_f_q <= |(f_q & low);
@@ -285,6 +293,7 @@ module bsd_drain #(
             rep_q         <= 1'b0;
             dio_q         <= 1'b0;
             hb_q          <= 1'b0;
+            empty_q       <= 1'b1;
             a_t_q         <= 1'b0;
             a_dio_q       <= 1'b0;
             a_rep_q       <= 1'b0;

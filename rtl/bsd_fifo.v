@@ -2,9 +2,11 @@
 `default_nettype none
 // Synchronous FIFO with AXI-Stream-style ports. DEPTH words (a power of two)
 // sit in a RAM with a registered read, which maps onto one iCE40 block RAM
-// (512 x 8) or any FPGA's; one more word sits in the output register, so it
-// holds DEPTH + 1 words. s_axis_tready and m_axis_tvalid come from flops only
-// (no combinational path from one side to the other).
+// (512 x 8) or any FPGA's; two more words sit in the RAM's read register and
+// a skid register behind it, so it holds DEPTH + 2 words. s_axis_tready and
+// m_axis_tvalid come from flops only, and so does the RAM's read enable:
+// m_axis_tready (often a consumer's long pick logic) reaches only the two
+// output valid flags, not the pointers, the full/empty flags or the RAM.
 //
 // Latency: a word written into an empty FIFO is offered 2 clocks later.
 // The RAM is never read and written at the same address on one clock (a read
@@ -37,11 +39,15 @@ module bsd_fifo #(
     reg [WIDTH-1:0] mem [0:DEPTH-1];
     reg [AW:0]      wr_q;  // one wrap bit above the address
     reg [AW:0]      rd_q;
-    // The output register.
+    // The RAM's read register, and the skid register that takes its word when
+    // a read comes while the output waits. The skid holds the older word, so
+    // it is offered first; it is only ever full beside a full read register.
     reg [WIDTH-1:0] out_data_q;
     reg             out_valid_q;
+    reg [WIDTH-1:0] skid_data_q;
+    reg             skid_valid_q;
 
-    assign m_axis_tdata  = out_data_q;
+    assign m_axis_tdata  = skid_valid_q ? skid_data_q : out_data_q;
     assign m_axis_tvalid = out_valid_q;
 
     // Full and empty as flops, so that push and pop (the RAM's enables) do
@@ -50,7 +56,10 @@ module bsd_fifo #(
     reg  ram_empty_q;
     reg  ram_full_q;
     wire push      = s_axis_tvalid && !ram_full_q;
-    wire pop       = !ram_empty_q && (!out_valid_q || m_axis_tready);
+    // A read whenever the skid is free: the read register's word then either
+    // leaves now or moves to the skid.
+    wire pop       = !ram_empty_q && !skid_valid_q;
+    wire take      = out_valid_q && m_axis_tready;
     // One word from empty / full: a lone pop empties, a lone push fills.
     wire [AW:0] wr_inc    = wr_q + 1'b1;
     wire [AW:0] rd_inc    = rd_q + 1'b1;
@@ -80,14 +89,21 @@ module bsd_fifo #(
             ram_full_q  <= 1'b0;
             ram_empty_q <= one_left;
         end
+        if (!skid_valid_q) skid_data_q <= out_data_q;  // kept only when skid_valid_q rises
+        if (skid_valid_q) begin
+            if (m_axis_tready) skid_valid_q <= 1'b0;
+        end else if (pop && out_valid_q && !m_axis_tready) begin
+            skid_valid_q <= 1'b1;
+        end
         if (pop) out_valid_q <= 1'b1;
-        else if (m_axis_tready) out_valid_q <= 1'b0;
+        else if (take && !skid_valid_q) out_valid_q <= 1'b0;
         if (rst) begin
             wr_q        <= {(AW + 1){1'b0}};
             rd_q        <= {(AW + 1){1'b0}};
             ram_empty_q <= 1'b1;
             ram_full_q  <= 1'b0;
             out_valid_q <= 1'b0;
+            skid_valid_q <= 1'b0;
         end
     end
 

@@ -7,8 +7,8 @@
 // (its type waits in bsd_heartbeat). So there is no K-way packet mux and no
 // arbiter: the head item is taken on the clock of the previous packet's
 // last handshake (packets leave back to back), and m_axis_tdata is a byte
-// mux driven by registers (the byte index, the source), which m_axis_tready
-// only advances. When a packet's last byte
+// mux driven by registers (a flag per byte), which m_axis_tready only
+// advances. When a packet's last byte
 // leaves, its source is told (timer_done_o with its index, reply_done_o,
 // hb_done_o): a timer is busy, and the reply slot full, until then.
 //
@@ -88,28 +88,30 @@ module bsd_pkt_tx #(
     wire [1:0] kind = item_data_i[29:28];
     wire [3:0] n    = kind == KIND_TIMER ? 4'd4 : kind == KIND_REPLY ? rep_n_i : 4'd2;
 
-    // Data byte d of each source (d0 is the command).
-    reg [7:0] byte_timer, byte_reply, byte_hb, data_byte;
+    // The byte on offer, selected by one-hot flags (a flag per byte of each
+    // source, the kind folded in) instead of a mux on pos_q and kind_q: an
+    // AND-OR of a few terms, so m_axis_tdata is 3 LUT levels from flops. The
+    // flags advance with pos_q (pos_q itself still counts for tlast).
+    reg        sel_addr_q, sel_n_q;
+    reg        sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q;  // a timer result's d0..d3
+    reg [7:0]  sel_rep_q;                                    // the reply's d0..d7
+    reg        sel_hcmd_q, sel_htype_q;                      // the heartbeat's d0, d1
+    function [7:0] when(input s, input [7:0] b);
+        begin
+            when = {8{s}} & b;
+        end
+    endfunction
+    wire [63:0] rep_bytes = {rep_data_i, rep_tail_i};
+    reg  [7:0]  byte_rep;
+    integer     i;
     always @* begin
-        case (pos_q[1:0])
-            2'd2:    byte_timer = CMD_DEV_VAL;
-            2'd3:    byte_timer = {2'b00, id_q};
-            2'd0:    byte_timer = result_q[15:8];
-            default: byte_timer = result_q[7:0];
-        endcase
-        case (pos_q)
-            4'd2:    byte_reply = rep_data_i[31:24];
-            4'd3:    byte_reply = rep_data_i[23:16];
-            4'd4:    byte_reply = rep_data_i[15:8];
-            4'd5:    byte_reply = rep_data_i[7:0];
-            4'd6:    byte_reply = rep_tail_i[31:24];
-            4'd7:    byte_reply = rep_tail_i[23:16];
-            4'd8:    byte_reply = rep_tail_i[15:8];
-            default: byte_reply = rep_tail_i[7:0];
-        endcase
-        byte_hb   = pos_q[0] ? hb_type_q : CMD_HB;
-        data_byte = kind_q == KIND_TIMER ? byte_timer : kind_q == KIND_REPLY ? byte_reply : byte_hb;
+        byte_rep = 8'd0;
+        for (i = 0; i < 8; i = i + 1) byte_rep = byte_rep | when(sel_rep_q[i], rep_bytes[63-8*i -: 8]);
     end
+    wire [7:0] tx_byte = when(sel_addr_q, ADDR_OWN) | when(sel_n_q, {4'd0, n_q}) |
+                         when(sel_tcmd_q, CMD_DEV_VAL) | when(sel_tid_q, {2'b00, id_q}) |
+                         when(sel_thi_q, result_q[15:8]) | when(sel_tlo_q, result_q[7:0]) |
+                         byte_rep | when(sel_hcmd_q, CMD_HB) | when(sel_htype_q, hb_type_q);
 
     wire done = hs && last_q && credit_q;
     assign item_ready_o  = load;
@@ -120,7 +122,7 @@ module bsd_pkt_tx #(
     assign timer_idx_o   = idx_q;
     assign reply_done_o  = done && kind_q == KIND_REPLY;
     assign hb_done_o     = done && kind_q == KIND_HB;
-    assign m_axis_tdata  = pos_q == 4'd0 ? ADDR_OWN : pos_q == 4'd1 ? {4'd0, n_q} : data_byte;
+    assign m_axis_tdata  = tx_byte;
     assign m_axis_tvalid = valid_q;
     assign m_axis_tlast  = last_q;
 
@@ -136,7 +138,20 @@ module bsd_pkt_tx #(
             hb_type_q  <= hb_type_i;
             id_q     <= item_data_i[21:16];
             result_q <= item_data_i[15:0];
+            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q} <= 6'b100000;
+            {sel_rep_q, sel_hcmd_q, sel_htype_q} <= 10'd0;
         end else if (hs) begin
+            // The next byte's flag; past the last byte (a reply of N > 8 is
+            // refused by the contract) the reply's last one stays.
+            sel_addr_q  <= 1'b0;
+            sel_n_q     <= sel_addr_q;
+            sel_tcmd_q  <= sel_n_q && kind_q == KIND_TIMER;
+            sel_tid_q   <= sel_tcmd_q;
+            sel_thi_q   <= sel_tid_q;
+            sel_tlo_q   <= sel_thi_q;
+            sel_rep_q   <= {sel_rep_q[6:0] , sel_n_q && kind_q == KIND_REPLY} | {sel_rep_q[7], 7'd0};
+            sel_hcmd_q  <= sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY;
+            sel_htype_q <= sel_hcmd_q;
             pos_q   <= pos_q + 4'd1;
             last_q  <= pos_q == n_q;  // the next byte is d(N-1)
             first_q <= 1'b0;
@@ -161,6 +176,8 @@ module bsd_pkt_tx #(
             credit_q  <= 1'b0;
             n_q     <= 4'd0;
             kind_q  <= 2'd0;
+            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q} <= 6'b100000;
+            {sel_rep_q, sel_hcmd_q, sel_htype_q} <= 10'd0;
             idx_q   <= 6'd0;
         end
     end

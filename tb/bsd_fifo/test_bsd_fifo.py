@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """cocotb tests of bsd_fifo (small, so full and empty come often, and at a power of two) against
-a bounded queue of DEPTH + 1 words (the RAM and the output register), and their pytest entry.
+a bounded queue of DEPTH + 2 words (the RAM, its read register and the skid register), and their pytest entry.
 
 Inputs are driven on the falling edge; every clock, right before the rising edge
 (ReadOnly), the test records which handshakes happen at that edge. It also checks that
@@ -27,7 +27,7 @@ SMALL = ("d2", "d16")
 
 def make_tb(dut) -> stream_check.StreamTB:
     p = hdl_params()
-    return stream_check.StreamTB(dut, int(p["WIDTH"]), int(p["DEPTH"]) + 1)
+    return stream_check.StreamTB(dut, int(p["WIDTH"]), int(p["DEPTH"]) + 2)
 
 
 @cocotb.test(skip=not runner.on(*SMALL))
@@ -56,7 +56,7 @@ async def test_fifo_empty_flag(dut) -> None:
 
 @cocotb.test(skip=not runner.on("d512"))
 async def test_deep_fill_and_wrap(dut) -> None:
-    """The 512-word RAM filled to the capacity (DEPTH + 1) with the output stalled, drained,
+    """The 512-word RAM filled to the capacity (DEPTH + 2) with the output stalled, drained,
     then over 1024 words at full rate (both pointers wrap past their top bit and back), and
     filled and drained once more: every word once, in order, tready low exactly when full,
     empty_o exactly when nothing is inside."""

@@ -2,7 +2,7 @@
 """Checks shared by the stream buffers' tests (tb/bsd_axis_skid/, tb/bsd_fifo/).
 
 Both are checked against the same reference: a queue of at most `capacity` words (2 for the
-skid buffer, DEPTH + 1 for the FIFO) in which words leave in order, none lost or repeated.
+skid buffer, DEPTH + 2 for the FIFO) in which words leave in order, none lost or repeated.
 
 Inputs are driven on the falling edge; every clock, right before the rising edge
 (ReadOnly), the test records which handshakes happen at that edge. It also checks that
