@@ -5,6 +5,7 @@
 // kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_tail_i unchanged on the
 // clock after pkt_valid_i (the parser writes no data byte before the clock after stage 2).
 // cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock.
+// cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
 // Asserted against a reference decoder written from PROTOCOL.md §2/§3 (precedence
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
 // clock after each packet (s2_valid_o, exactly then, never two clocks in a row) the
@@ -50,8 +51,12 @@
     wire       f_cmd    = f_kind == KIND_CMD;
     wire       f_pin_ok = f_d1 < NUM_PINS;       // a whole `pin` byte
     wire       f_dev_ok = f_dp < NUM_PINS;
-    wire       f_is_in  = f_pin_ok && f_cfg[5*f_d1[5:0]];   // the pin byte's pin is an input
-    wire       f_dev_in = f_dev_ok && f_cfg[5*f_dp];        // the DEVCODE's pin is an input
+    wire       f_is_in  = f_pin_ok && f_cfg[f_d1[5:0]];     // the pin byte's pin is an input
+    wire       f_dev_in = f_dev_ok && f_cfg[f_dp];          // the DEVCODE's pin is an input
+    // The pin byte's pin's DIGCFG bits 4:0 (meaningful with f_pin_ok).
+    wire [4:0] f_pin_cfg = {f_cfg[4*NUM_PINS + f_d1[5:0]], f_cfg[3*NUM_PINS + f_d1[5:0]],
+                            f_cfg[2*NUM_PINS + f_d1[5:0]], f_cfg[NUM_PINS + f_d1[5:0]],
+                            f_cfg[f_d1[5:0]]};
     wire       f_valid_code = f_d0 == CMD_HB || f_d0 == CMD_DIG_CFG || f_d0 == CMD_DIG_IO ||
                               f_d0 == CMD_DIG_RST || f_d0 == CMD_PTIME_RD || f_d0 == CMD_DEBUG ||
                               f_d0 == CMD_RESET;
@@ -95,7 +100,7 @@
             if (!f_pin_ok) f_rep_data = {CMD_MSG, MSG_CMD_INDEX_ERR, 16'd0};
             else if (f_n == 4'd2) begin
                 f_rep_n = 4'd3;
-                f_rep_data = {CMD_DIG_CFG, f_d1, FIXED_MASK[f_d1[5:0]], 2'b00, f_cfg[5*f_d1[5:0] +: 5], 8'd0};
+                f_rep_data = {CMD_DIG_CFG, f_d1, FIXED_MASK[f_d1[5:0]], 2'b00, f_pin_cfg, 8'd0};
             end else f_rep_data = {CMD_MSG, MSG_CONFIG_ERR, 16'd0};
         end else if (f_d0 == CMD_DIG_IO) begin
             if (f_n != 4'd2 || !f_dev_in) begin

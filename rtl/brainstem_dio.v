@@ -325,32 +325,26 @@ module brainstem_dio #(
     );
 
     // --------------------------------------------------------- per-pin blocks
-    wire [NUM_PINS-1:0] t_mode, t_target;
+    // cfg is field-major: DIGCFG bit k of every pin is cfg[k*NUM_PINS +: NUM_PINS].
+    wire [NUM_PINS-1:0] t_mode   = cfg[4*NUM_PINS +: NUM_PINS];
+    wire [NUM_PINS-1:0] t_target = cfg[3*NUM_PINS +: NUM_PINS];
 
-    genvar p;
-    generate
-        for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
-            wire [4:0] c = cfg[5*p +: 5];
+    assign pin_o = out_latch;
 
-            assign pin_o[p]    = out_latch[p];
-            assign t_mode[p]   = c[4];
-            assign t_target[p] = c[3];
-
-            bsd_trans_latch u_latch (
-                .clk      (clk),
-                .rst      (core_rst),
-                .arm_i    (rearm[p] || init_arm),
-                .ena_i    (c[1]),
-                .trg_i    (c[2]),
-                .input_i  (c[0]),
-                .sample_i (poll),
-                .level_i  (level[p]),
-                .fire_o   (raw_trans[p])
-            );
-        end
-    endgenerate
+    bsd_trans_latch #(.WIDTH(NUM_PINS)) u_latch (
+        .clk      (clk),
+        .rst      (core_rst),
+        .arm_i    (rearm | {NUM_PINS{init_arm}}),
+        .ena_i    (cfg[1*NUM_PINS +: NUM_PINS]),
+        .trg_i    (cfg[2*NUM_PINS +: NUM_PINS]),
+        .input_i  (cfg[0*NUM_PINS +: NUM_PINS]),
+        .sample_i (poll),
+        .level_i  (level),
+        .fire_o   (raw_trans)
+    );
 
     // --------------------------------------------------------------- timers
+    genvar p;
     wire [NT-1:0]       t_level, t_start, t_tmode, t_tstate, t_busy;
     wire [NT-1:0]       timer_run, timer_host_pend, timer_rflx_pend;
     wire [NT-1:0]       timer_expire;

@@ -2,6 +2,9 @@
 `default_nettype none
 // Per-pin DIGCFG bits 4:0 and output latches. Pins in FIXED_MASK hold
 // FIXED_CFG and ignore configuration writes (their output latch stays writable).
+// cfg_o is field-major: DIGCFG bit k of pin p is cfg_o[k*NUM_PINS + p], so
+// that every consumer takes a field of all pins as one slice (a simulation
+// model built by Verilator then works on words, not on every pin's bits).
 module bsd_cfg_regs #(
     parameter integer               NUM_PINS   = 5,
     parameter [NUM_PINS-1:0]        FIXED_MASK = 0,
@@ -14,54 +17,62 @@ module bsd_cfg_regs #(
     input  wire [5:0]            pin_idx_i,    // the pin both writes address
     input  wire [4:0]            cfg_wdata_i,
     input  wire                  out_wdata_i,
-    output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0
+    output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0, field-major
     output wire [NUM_PINS-1:0]   out_o,        // every pin's output latch
     output wire [NUM_PINS-1:0]   oe_o          // every pin's output enable: !IODIR
 );
     localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
 
-    // The addressed pin: two 3-bit decoders and one gate per pin.
-    wire [7:0] dec_lo = 8'd1 << pin_idx_i[2:0];
-    wire [7:0] dec_hi = 8'd1 << pin_idx_i[5:3];
-    // Constant 0 (a lint sink for decoder lines that select no pin).
+    // FIXED_CFG's bits 4:0, field-major like cfg_o. Called only for a
+    // localparam (evaluated at elaboration): outside coverage.
     /* verilator coverage_off */
-    wire       unused_dec = ^{dec_lo, dec_hi};  // lines beyond NUM_PINS - 1
+    function [5*NUM_PINS-1:0] fixed_fields(input integer unused);
+        integer k, q;
+        begin
+            for (k = 0; k < 5; k = k + 1)
+                for (q = 0; q < NUM_PINS; q = q + 1)
+                    fixed_fields[k*NUM_PINS + q] = FIXED_CFG[8*q + k];
+        end
+    endfunction
     /* verilator coverage_on */
+    localparam [5*NUM_PINS-1:0] FIXED_F = fixed_fields(0);
+    localparam [NUM_PINS-1:0]   ONE     = 1;
 
-    genvar p;
+    // The addressed pin as a one-hot; none for a pin beyond NUM_PINS - 1.
+    wire [NUM_PINS-1:0] sel = ONE << pin_idx_i;
+
+    reg [5*NUM_PINS-1:0] cfg_q;   // field-major; a fixed pin's bits are never read
+    reg [NUM_PINS-1:0]   out_q;
+    // The output enable is IODIR inverted, kept in flops of its own so that
+    // the pad's enable needs no gate per pin.
+    reg [NUM_PINS-1:0]   oe_q;
+    integer k;
+
+    always @(posedge clk) begin
+        if (cfg_we_i) begin
+            for (k = 0; k < 5; k = k + 1)
+                cfg_q[k*NUM_PINS +: NUM_PINS] <= (cfg_q[k*NUM_PINS +: NUM_PINS] & ~sel) |
+                                                 ({NUM_PINS{cfg_wdata_i[k]}} & sel);
+            oe_q <= (oe_q & ~sel) | ({NUM_PINS{!cfg_wdata_i[0]}} & sel);
+        end
+        if (out_we_i) out_q <= (out_q & ~sel) | ({NUM_PINS{out_wdata_i}} & sel);
+        if (rst) begin
+            for (k = 0; k < 5; k = k + 1)
+                cfg_q[k*NUM_PINS +: NUM_PINS] <= {NUM_PINS{CFG_RESET[k]}};
+            oe_q  <= {NUM_PINS{!CFG_RESET[0]}};
+            out_q <= {NUM_PINS{1'b0}};
+        end
+    end
+
+    genvar g;
     generate
-        for (p = 0; p < NUM_PINS; p = p + 1) begin : g_pin
-            wire sel = dec_hi[p / 8] && dec_lo[p % 8];
-            reg  out_q;
-            always @(posedge clk) begin
-                if (out_we_i && sel) out_q <= out_wdata_i;
-                if (rst) out_q <= 1'b0;
-            end
-            assign out_o[p] = out_q;
-
-            if (FIXED_MASK[p]) begin : g_fixed
-                assign cfg_o[5*p +: 5] = FIXED_CFG[8*p +: 5];
-                assign oe_o[p]         = !FIXED_CFG[8*p];
-            end else begin : g_free
-                // The output enable is IODIR inverted, kept in a flop of its
-                // own so that the pad's enable needs no gate per pin.
-                reg [4:0] cfg_q;
-                reg       oe_q;
-                always @(posedge clk) begin
-                    if (cfg_we_i && sel) begin
-                        cfg_q <= cfg_wdata_i;
-                        oe_q  <= !cfg_wdata_i[0];
-                    end
-                    if (rst) begin
-                        cfg_q <= CFG_RESET;
-                        oe_q  <= !CFG_RESET[0];
-                    end
-                end
-                assign cfg_o[5*p +: 5] = cfg_q;
-                assign oe_o[p]         = oe_q;
-            end
+        for (g = 0; g < 5; g = g + 1) begin : g_field
+            assign cfg_o[g*NUM_PINS +: NUM_PINS] = (cfg_q[g*NUM_PINS +: NUM_PINS] & ~FIXED_MASK) |
+                                                   (FIXED_F[g*NUM_PINS +: NUM_PINS] & FIXED_MASK);
         end
     endgenerate
+    assign out_o = out_q;
+    assign oe_o  = (oe_q & ~FIXED_MASK) | (~FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
 
 `ifdef FORMAL
 `include "bsd_cfg_regs_props.vh"

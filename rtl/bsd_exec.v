@@ -92,39 +92,23 @@ module bsd_exec #(
     wire c_rst   = is_cmd && d0_rst && n_ge2;
     wire c_time  = is_cmd && d0_time && n_ge2;
 
-    // The addressed pin as a one-hot: two 3-bit decoders and one gate per pin
-    // (a compare of the whole index per pin and strobe would cost several).
-    // No line is set for a pin beyond NUM_PINS - 1. A `pin` byte must match
-    // whole (bits 7:6 zero); a DEVCODE's pin is its bits 5:0.
-    wire [7:0]          dec_lo = 8'd1 << dev_pin[2:0];
-    wire [7:0]          dec_hi = 8'd1 << dev_pin[5:3];
-    // Constant 0 (a lint sink for decoder lines that select no pin).
-    /* verilator coverage_off */
-    wire                unused_dec = ^{dec_lo, dec_hi};  // lines beyond NUM_PINS - 1
-    /* verilator coverage_on */
-    wire [NUM_PINS-1:0] sel;
-    wire [NUM_PINS-1:0] is_input;
+    // The addressed pin as a one-hot; no line is set for a pin beyond
+    // NUM_PINS - 1. A `pin` byte must match whole (bits 7:6 zero); a DEVCODE's
+    // pin is its bits 5:0. cfg_i is field-major (bsd_cfg_regs): each DIGCFG
+    // field of all pins is one slice, picked with the one-hot by an AND-OR.
+    localparam [NUM_PINS-1:0] ONE = 1;
+    wire [NUM_PINS-1:0] sel      = ONE << dev_pin;
+    wire [NUM_PINS-1:0] is_input = cfg_i[IODIR*NUM_PINS +: NUM_PINS];
+
+    // The addressed pin's state; zero for a pin beyond the last.
+    wire [4:0] look_cfg;
     genvar g;
     generate
-        for (g = 0; g < NUM_PINS; g = g + 1) begin : g_sel
-            assign sel[g]      = dec_hi[g / 8] && dec_lo[g % 8];
-            assign is_input[g] = cfg_i[5*g + IODIR];
+        for (g = 0; g < 5; g = g + 1) begin : g_look
+            assign look_cfg[g] = |(cfg_i[g*NUM_PINS +: NUM_PINS] & sel);
         end
     endgenerate
-
-    // The addressed pin's state, picked with the one-hot (AND-OR: one gate
-    // per pin and bit before the OR tree); zero for a pin beyond the last.
-    reg [4:0] look_cfg;
-    reg       look_level;
-    integer i;
-    always @* begin
-        look_cfg   = 5'd0;
-        look_level = 1'b0;
-        for (i = 0; i < NUM_PINS; i = i + 1) begin
-            look_cfg   = look_cfg | (cfg_i[5*i +: 5] & {5{sel[i]}});
-            look_level = look_level | (level_i[i] && sel[i]);
-        end
-    end
+    wire look_level = |(level_i & sel);
     wire sel_fixed = |(sel & FIXED_MASK);
     wire sel_timer = |(sel & TIMER_MASK);
 

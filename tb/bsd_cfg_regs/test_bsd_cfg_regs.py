@@ -66,9 +66,21 @@ class CfgModel:
 
     def outputs(self) -> dict[str, int]:
         # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0.
-        return dict(cfg_o=sum(c << (5 * p) for p, c in enumerate(self.cfg)),
+        return dict(cfg_o=pack_cfg(self.cfg),
                     out_o=sum(o << p for p, o in enumerate(self.out)),
                     oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)))
+
+
+def pack_cfg(cfg: list[int]) -> int:
+    """Every pin's DIGCFG bits 4:0 as cfg_o carries them: field-major, bit k of pin p at
+    k * n + p (the module's header)."""
+    n = len(cfg)
+    return sum(((c >> k) & 1) << (k * n + p) for p, c in enumerate(cfg) for k in range(5))
+
+
+def unpack_cfg(word: int, n: int, p: int) -> int:
+    """Pin p's DIGCFG bits 4:0 from a field-major cfg_o of n pins."""
+    return sum(((word >> (k * n + p)) & 1) << k for k in range(5))
 
 
 class CfgTB(ClockedTB):
@@ -91,7 +103,7 @@ class CfgTB(ClockedTB):
         assert dict(outputs) == exp, f"{inputs} rst={rst}: DUT {outputs} != model {exp}"
 
     def cfg(self, out: dict, p: int) -> int:
-        return (out["cfg_o"] >> (5 * p)) & 0x1F
+        return unpack_cfg(out["cfg_o"], self.model.n, p)
 
 
 @cocotb.test()

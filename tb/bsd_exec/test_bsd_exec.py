@@ -77,7 +77,9 @@ class ExecModel:
         e["s2_valid_o"] = 1
         kind, n, d0, d1, d2 = (v[k] for k in ("pkt_kind_i", "pkt_n_i", "pkt_d0_i", "pkt_d1_i",
                                               "pkt_d2_i"))
-        cfg = [(v["cfg_i"] >> (5 * p)) & 0x1F for p in range(self.n)]
+        # cfg_i is field-major (bsd_cfg_regs): bit k of pin p at k * n + p.
+        cfg = [sum(((v["cfg_i"] >> (k * self.n + p)) & 1) << k for k in range(5))
+               for p in range(self.n)]
         is_input = lambda p: bool(cfg[p] & DIGCFG_IODIR)  # noqa: E731
         bit = lambda m, p: bool((m >> p) & 1)  # noqa: E731
 
@@ -182,7 +184,8 @@ class ExecTB(ClockedTB):
 
     def state(self, cfg: list[int] | None = None, level: int = 0, busy: int = 0) -> dict:
         cfg = cfg if cfg is not None else [DIGCFG_IODIR] * self.n
-        return dict(cfg_i=sum(c << (5 * p) for p, c in enumerate(cfg)), level_i=level,
+        return dict(cfg_i=sum(((c >> k) & 1) << (k * self.n + p)
+                              for p, c in enumerate(cfg) for k in range(5)), level_i=level,
                     timer_busy_i=busy)
 
     async def cmd(self, *data: int, n: int | None = None, kind: int = KIND_CMD,
