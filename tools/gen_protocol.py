@@ -1,10 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Generate the protocol constants of brainstem_dio (OUTPUTS) from tools/protocol.toml.
-
-The generated files are committed; `--check` (make protocol-check, tb/protocol) writes nothing
-and exits 1 listing the stale ones. tb/lib/bsd_protocol.py re-exports the host library's table.
-"""
+"""Generate the protocol constants of brainstem_dio (OUTPUTS) from tools/protocol.toml; the
+generated files are committed, `--check` (make protocol-check, tb/protocol) lists stale ones."""
 
 from __future__ import annotations
 
@@ -83,143 +80,75 @@ class Protocol:
 
     @property
     def devcode_pin_mask(self) -> int:
-        return _field_mask(*self.devcode_pin)
+        msb, lsb = self.devcode_pin
+        return ((1 << (msb - lsb + 1)) - 1) << lsb
 
 
-def _field_mask(msb: int, lsb: int) -> int:
-    return ((1 << (msb - lsb + 1)) - 1) << lsb if msb >= lsb else 0
+# Keys whose numbers are not bytes (the rest must be 0..255); strings: their pattern (no quotes
+# or backslashes: they are pasted into C++ and Python string literals).
+WIDE = {"unit_ticks", "tick_hz", "max_ticks", *PARAMETERS}
+STRINGS = {"name": r"[A-Za-z][A-Za-z0-9_]*", "from": "host|core|both", "scope": "core|uart", "text": r"[ !#-\[\]-~]+"}
 
 
-class _Section:
-    """One table of the TOML file, read key by key; unknown keys are an error."""
-
-    def __init__(self, data: Any, where: str) -> None:
-        if not isinstance(data, dict):
-            raise TableError(f"{where} must be a table")
-        self.data, self.where, self.used = data, where, set()
-
-    def get(self, key: str, lo: int = 0, hi: int = 255, optional: bool = False, pattern: str | None = None,
-            choices: tuple[str, ...] = ()) -> Any:
-        self.used.add(key)
-        if key not in self.data:
-            if optional:
-                return None
-            raise TableError(f"{self.where}: missing key '{key}'")
-        v = self.data[key]
-        if pattern is None and not choices:
-            if not isinstance(v, int) or isinstance(v, bool):
-                raise TableError(f"{self.where}: '{key}' must be an integer, not {v!r}")
-            if not lo <= v <= hi:
-                raise TableError(f"{self.where}: '{key}' = {v} is outside {lo}..{hi}")
-            return v
-        if not isinstance(v, str) or not re.fullmatch(pattern or ".*", v) or (choices and v not in choices):
-            raise TableError(f"{self.where}: '{key}' = {v!r} must be a string matching {pattern or choices}")
-        if '"' in v or "\\" in v:
-            raise TableError(f"{self.where}: '{key}' may not contain quotes or backslashes")
-        return v
-
-    def done(self) -> None:
-        if extra := sorted(set(self.data) - self.used):
-            raise TableError(f"{self.where}: unknown key(s) {', '.join(extra)}")
+def _keys(data: Any, where: str, keys: tuple[str, ...] | None, optional: tuple[str, ...] = ()) -> dict[str, Any]:
+    """A table with exactly `keys` (None: any upper-case ones) less `optional`, each checked."""
+    if not isinstance(data, dict):
+        raise TableError(f"{where} must be a table")
+    keys = tuple(k for k in data if re.fullmatch(r"[A-Z][A-Z0-9_]*", k)) if keys is None else keys
+    if extra := sorted(set(data) - set(keys)):
+        raise TableError(f"{where}: unknown key(s) {', '.join(extra)}")
+    if missing := [k for k in keys if k not in data and k not in optional]:
+        raise TableError(f"{where}: missing key '{missing[0]}'")
+    for k, v in data.items():
+        if k in STRINGS and not (isinstance(v, str) and re.fullmatch(STRINGS[k], v)):
+            raise TableError(f"{where}: '{k}' = {v!r} must be a string matching {STRINGS[k]}")
+        hi = 2**64 - 1 if k in WIDE else 255
+        if k not in STRINGS and (not isinstance(v, int) or isinstance(v, bool) or not 0 <= v <= hi):
+            raise TableError(f"{where}: '{k}' = {v!r} must be an integer 0..{hi}")
+    return {k: data.get(k) for k in keys}
 
 
 def load(path: Path) -> Protocol:
-    """Read and check the table."""
+    """Read and check the table (its agreement with docs/PROTOCOL.md is tb/protocol's)."""
     try:
         raw = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as e:
         raise TableError(f"cannot read {path}: {e.strerror}") from None
     except tomllib.TOMLDecodeError as e:
         raise TableError(f"{path}: {e}") from None
-    top = _Section(raw, path.name)
+    sections = ("packet", "command", "message", "digcfg", "devcode", "heartbeat", "timer", "device_id", "defaults",
+                "packet_kind")
+    _keys({k: 0 for k in raw}, path.name, sections)
+    if missing := [k for k in sections if not raw.get(k)]:
+        raise TableError(f"{path.name}: missing [{missing[0]}]")
 
-    def section(key: str, keys: Any, lo: int = 0, hi: int = 255, **ranges: tuple[int, int]) -> dict[str, int]:
-        """Table [key]: its integer `keys` (None: its upper-case ones), in lo..hi unless `ranges`
-        says otherwise, and no other keys."""
-        top.used.add(key)
-        if key not in raw:
-            raise TableError(f"{path.name}: missing table [{key}]")
-        s = _Section(raw[key], f"[{key}]")
-        keys = [k for k in s.data if re.fullmatch(r"[A-Z][A-Z0-9_]*", k)] if keys is None else keys
-        values = {k: s.get(k, *ranges.get(k, (lo, hi))) for k in keys}
-        s.done()
-        return values
+    def section(key: str, *keys: str) -> list[Any]:
+        return list(_keys(raw[key], f"[{key}]", keys).values())
 
-    def array(key: str, pattern: str) -> list[tuple[_Section, str]]:
-        top.used.add(key)
-        if not isinstance(raw.get(key), list) or not raw[key]:
-            raise TableError(f"{path.name}: missing [[{key}]] entries")
-        out = []
-        for i, r in enumerate(raw[key]):
-            s = _Section(r, f"[[{key}]] #{i + 1}")
-            s.where = f"[[{key}]] {(name := s.get('name', pattern=pattern))}"
-            out.append((s, name))
-        return out
+    def array(key: str, *keys: str, optional: tuple[str, ...] = ()) -> list[list[Any]]:
+        return [list(_keys(r, f"[[{key}]] #{i}", keys, optional).values()) for i, r in enumerate(raw[key], 1)]
 
-    max_n, resync, msg_n = section("packet", ("max_n", "resync_addr", "msg_n"), max_n=(1, 255), msg_n=(1, 255)).values()
-    commands = []
-    for s, name in array("command", r"cmd[A-Z][A-Z0-9_]*"):
-        c = Command(s.get("code"), name, s.get("from", choices=("host", "core", "both")),
-                    s.get("min_n", 1, max_n, optional=True), s.get("max_n", 1, max_n, optional=True))
-        s.done()
-        if (c.min_n is None) != (c.max_n is None) or (c.min_n or 0) > (c.max_n or 0):
-            raise TableError(f"{s.where}: give both min_n and max_n, min_n <= max_n")
-        if c.min_n is not None and c.sender == "core":
-            raise TableError(f"{s.where}: min_n/max_n are for commands from the host")
-        commands.append(c)
-    messages = []
-    for s, name in array("message", r"[a-z][a-z0-9]*(?:[A-Z][a-z0-9]*)*"):
-        messages.append(Message(s.get("code"), name, s.get("scope", choices=("core", "uart")),
-                                s.get("text", pattern=r"[ -~]+")))
-        s.done()
+    max_n, resync, msg_n = section("packet", "max_n", "resync_addr", "msg_n")
+    commands = [Command(code, name, sender, lo, hi) for code, name, sender, lo, hi
+                in array("command", "code", "name", "from", "min_n", "max_n", optional=("min_n", "max_n"))]
+    if any((c.min_n is None) != (c.max_n is None) or (c.min_n or 0) > (c.max_n or 0) for c in commands):
+        raise TableError("[[command]]: give both min_n and max_n, min_n <= max_n")
+    messages = [Message(*m) for m in array("message", "code", "name", "scope", "text")]
     for items, what, attrs in ((commands, "command", ("code", "name")), (messages, "message", ("code", "name", "const"))):
         for attr in attrs:
             values = [getattr(it, attr) for it in items]
             for v in values:
                 if values.count(v) > 1:
                     raise TableError(f"two {what}s with {attr} {v!r}")
-    for needed in ("cmdMSG", "cmdDEV_VAL", "cmdHB"):
-        if needed not in {c.name for c in commands}:
-            raise TableError(f"[[command]]: {needed} is missing (the generated files use it)")
-
-    dc = section("digcfg", ("fixed", "tmode", "tstate", "trg", "ena", "iodir", "stored", "reset"), hi=7,
-                 stored=(0, 255), reset=(0, 255))
-    stored, reset = dc.pop("stored"), dc.pop("reset")
-    digcfg = {f.upper(): b for f, b in dc.items()}
-    writable = sum(1 << b for f, b in digcfg.items() if f != "FIXED")
-    if len(set(digcfg.values())) != len(digcfg):
-        raise TableError("[digcfg]: two fields on the same bit")
-    if stored != writable:
+    *bits, stored, reset = section("digcfg", "fixed", "tmode", "tstate", "trg", "ena", "iodir", "stored", "reset")
+    digcfg = dict(zip(("FIXED", "TMODE", "TSTATE", "TRG", "ENA", "IODIR"), bits))
+    if stored != (writable := sum(1 << b for b in bits[1:])):
         raise TableError(f"[digcfg]: stored = 0x{stored:02X} but the writable fields are 0x{writable:02X}")
-    if reset & ~stored:
-        raise TableError("[digcfg]: reset has bits outside stored")
-    host, rflx, *pin = section("devcode", ("host", "rflx", "pin_msb", "pin_lsb"), hi=7).values()
-    devcode, pin_mask = {"HOST": host, "RFLX": rflx}, _field_mask(*pin)
-    if not pin_mask or host == rflx or pin_mask & (1 << host | 1 << rflx):
-        raise TableError("[devcode]: HOST, RFLX and the pin field must be distinct bits, pin_msb >= pin_lsb")
-    hb_up, hb_down, hb_off, hb_unit = section("heartbeat", ("up", "down", "answer_offset", "unit_ticks"),
-                                              unit_ticks=(1, 2**31 - 1)).values()
-    if len({hb_up, hb_down, hb_up + hb_off, hb_down + hb_off}) != 4 or max(hb_up, hb_down) + hb_off > 255:
-        raise TableError("[heartbeat]: up, down and their answers must be four distinct bytes")
-    tick_hz, max_ticks = section("timer", ("tick_hz", "max_ticks"), tick_hz=(1, 2**31 - 1), max_ticks=(1, 0xFFFF)).values()
-    (limit,) = section("device_id", ("limit",), 1, 1 << (pin[0] - pin[1] + 1)).values()
-    defaults = section("defaults", PARAMETERS, 0, 2**64 - 1)
-    n = defaults["NUM_PINS"]
-    if not 1 <= n <= pin_mask >> pin[1]:
-        raise TableError(f"[defaults]: NUM_PINS = {n} does not fit the DEVCODE pin field")
-    for base in ("PIN_ID_BASE", "TIMER_ID_BASE", "TRANS_ID_BASE"):
-        if defaults[base] + n > limit:
-            raise TableError(f"[defaults]: {base} + NUM_PINS - 1 must stay below {limit}")
-    if defaults["TIMER_MASK"] >> n or defaults["FIXED_MASK"] >> n or defaults["FIXED_CFG"] >> (8 * n):
-        raise TableError("[defaults]: TIMER_MASK, FIXED_MASK or FIXED_CFG has bits above NUM_PINS")
-    if defaults["MODULE_ADDR"] % 2 or not 2 <= defaults["MODULE_ADDR"] <= 254:
-        raise TableError("[defaults]: MODULE_ADDR must be even, 2..254")
-    kinds = section("packet_kind", None, 0, 3)
-    if not kinds or len(set(kinds.values())) != len(kinds):
-        raise TableError("[packet_kind]: needs distinct values, upper-case names")
-    top.done()
-    return Protocol(max_n, resync, msg_n, commands, messages, digcfg, stored, reset, devcode, tuple(pin), hb_up,
-                    hb_down, hb_off, hb_unit, tick_hz, max_ticks, limit, defaults, kinds)
+    host, rflx, *pin = section("devcode", "host", "rflx", "pin_msb", "pin_lsb")
+    hb = section("heartbeat", "up", "down", "answer_offset", "unit_ticks")
+    return Protocol(max_n, resync, msg_n, commands, messages, digcfg, stored, reset, {"HOST": host, "RFLX": rflx},
+                    (pin[0], pin[1]), *hb, *section("timer", "tick_hz", "max_ticks"), *section("device_id", "limit"),
+                    _keys(raw["defaults"], "[defaults]", PARAMETERS), _keys(raw["packet_kind"], "[packet_kind]", None))
 
 
 # --- renderers: each returns the whole file; names are the same in every language ---------
@@ -366,23 +295,19 @@ def render_python(p: Protocol) -> str:
 RENDERERS = {"verilog": render_verilog, "cpp": render_cpp, "make": render_make, "python": render_python}
 
 
-def render_all(p: Protocol) -> dict[str, str]:
-    return {path: RENDERERS[lang](p) for path, lang in OUTPUTS}
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=f"Generate {', '.join(p for p, _ in OUTPUTS)} from {TABLE}.",
                                  epilog="Exit status: 0 up to date (or written), 1 stale files (--check), 2 a bad table or path.")
     ap.add_argument("--check", action="store_true", help="write nothing; exit 1 and list the stale or missing files")
     ap.add_argument("--root", type=Path, default=ROOT, help="repository root the paths are relative to")
-    ap.add_argument("--table", type=Path, default=None, help=f"the table (default: ROOT/{TABLE})")
     ap.add_argument("-q", "--quiet", action="store_true", help="print only errors and stale files")
     args = ap.parse_args(argv)
     stale = []
     try:
-        for rel, text in render_all(load(args.table or args.root / TABLE)).items():
+        proto = load(args.root / TABLE)
+        for rel, lang in OUTPUTS:
             old = (args.root / rel).read_text(encoding="utf-8") if (args.root / rel).is_file() else None
-            if old != text and args.check:
+            if old != (text := RENDERERS[lang](proto)) and args.check:
                 stale.append(f"{rel} ({'missing' if old is None else 'differs from ' + TABLE})")
             elif old != text:
                 (args.root / rel).write_text(text, encoding="utf-8")
