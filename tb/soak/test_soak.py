@@ -72,7 +72,6 @@ def test_caller_counts_each_kind_of_outcome() -> None:
     call("write", lambda: time.sleep(0.3), lambda r: None, timeout=0.01)  # bound: 0.01 + 0.5 + 0.5 s
     assert ph.outcomes == {soak.OK: 3, soak.WRONG: 2, "CmdIndexErr (10)": 1, "Timeout": 1,
                            "foreign KeyError": 1}
-    assert ph.by_op["read"] == {soak.OK: 1, soak.WRONG: 1, "CmdIndexErr (10)": 1}
     assert ph.wrong == ["echo: echo y, not x", "read: no CmdIndexErr"]
     assert ph.foreign == ["query: KeyError: 'k'"]
     assert ph.slowest[2] == "write" and ph.slowest[0] > 20
