@@ -1,21 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Code coverage of rtl/ over the Verilator regression: `make coverage`.
+"""Code coverage of rtl/ over the Verilator regression (`make coverage`; docs/coverage.md):
+runs the Verilator cases with BSD_COVERAGE=1 and BSD_FCOV_DIR (then tools/fcov_report.py
+--check), merges the data files and gives per rtl/ module line, branch and toggle % against the
+targets; a module below a target passes only when tools/coverage_waivers.toml names every point
+it leaves uncovered, and a waiver that names no uncovered point is an error.
 
-Runs the regression's Verilator cases (deep ones too) with BSD_COVERAGE=1 (tb/lib/runner.py
-builds each model with line and toggle coverage, each run writes its own file into --dat) and
-BSD_FCOV_DIR (then tools/fcov_report.py --check). Merges the files (a point is module, file,
-line, column, type, comment: instances and builds add up), and per rtl/ module gives line %
-(source lines with a block or branch point, covered when any point on it ran), branch % and
-toggle % (each bit's 0->1 and 1->0), against the targets. What is constant by construction is
-left out in the source (`/* verilator coverage_off */` ... `coverage_on`); tools/coverage_waivers.toml
-names, by module and signal, the toggle points the source cannot exclude (some bits of a
-signal whose other bits toggle). A module below a target passes only when every point it
-leaves uncovered is named there, and a waiver that names no uncovered point is an error.
-Writes sim_build/coverage/: merged.dat, summary.md (printed too), fcov.md, src/<module>.v.txt
-(each source line with its count, `!` where uncovered).
-
-    .venv/bin/python tools/coverage.py            # what make coverage runs
-    .venv/bin/python tools/coverage.py --no-run   # report on the data files already there
+    .venv/bin/python tools/coverage.py [--no-run]   # --no-run: report on the data files already there
 
 Exit 0: targets met or every exception named; 1: not, or the regression failed; 2: bad
 arguments, waivers or data.
@@ -24,6 +14,7 @@ arguments, waivers or data.
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import os
 import re
 import shutil
@@ -117,9 +108,9 @@ def write_dat(counts: Counts) -> str:
     return "\n".join(lines) + "\n"
 
 
-def glob_regex(pattern: str) -> re.Pattern[str]:
+def glob_match(name: str, pattern: str) -> bool:
     """`*` any text, `?` one character, the rest literal (`cnt_q[15]` is a bit, not a class)."""
-    return re.compile("".join(".*" if c == "*" else "." if c == "?" else re.escape(c) for c in pattern))
+    return fnmatch.fnmatchcase(name, pattern.replace("[", "[[]"))
 
 
 @dataclass(frozen=True)
@@ -130,7 +121,7 @@ class Waiver:
 
     def matches(self, p: Point) -> bool:
         return (p.module, p.kind) == (self.module, "toggle") and any(
-            glob_regex(self.signal).fullmatch(x) for x in (p.signal, p.comment))
+            glob_match(x, self.signal) for x in (p.signal, p.comment))
 
 
 def parse_waivers(text: str, where: str = "waivers") -> list[Waiver]:
@@ -281,9 +272,7 @@ def run_regression(dat: Path, fcov: Path, jobs: int, extra: Sequence[str]) -> in
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description="Verilator line/toggle/branch coverage of rtl/ over the regression.",
-                                 epilog="Exit 0: targets met or every exception named; 1: not, or the regression "
-                                        "failed; 2: bad arguments, waivers or data.")
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--no-run", action="store_true", help="report on the data files already in --dat")
     ap.add_argument("--jobs", "-n", type=int, default=2, help="pytest-xdist workers (default 2)")
     ap.add_argument("--dat", type=Path, default=OUT / "dat", help="data folder (default sim_build/coverage/dat)")
