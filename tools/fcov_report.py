@@ -2,10 +2,8 @@
 """Merge the functional-coverage files of simulator runs and report bins hit.
 
 Each simulation run with $BSD_FCOV_DIR set writes one JSON file there (tb/lib/fcov.py). Per
-coverpoint/cross: the bins, those unreachable by construction (tools/fcov_unreachable.toml, each
-with its reason), the reachable ones hit; then the unhit reachable bins. --md FILE also writes the
-table; --check exits 1 when a reachable bin is unhit or a bin listed unreachable was hit. Exit 2:
-bad arguments or input.
+coverpoint: its bins, those unreachable by construction (tools/fcov_unreachable.toml, each with
+its reason), the reachable ones hit, then the unhit reachable bins. Exit 2: bad arguments or input.
 """
 
 from __future__ import annotations
@@ -89,12 +87,10 @@ def merge(docs: Sequence[tuple[str, Mapping[str, object]]]) -> Runs:
         for name, bins in hits.items():
             if name not in COVERPOINTS or not isinstance(bins, Mapping):
                 raise InputError(f"{where}: unknown coverpoint {name!r}, or its bins are not an object")
+            valid = set(all_bins(name))
             for key, n in bins.items():
-                b = tuple(key.split("|"))
-                if len(b) != len(COVERPOINTS[name]) or any(v not in vals for v, (_, vals) in zip(b, COVERPOINTS[name])):
-                    raise InputError(f"{where}: {key!r} is not a bin of {name}")
-                if not isinstance(n, int) or isinstance(n, bool) or n < 0:
-                    raise InputError(f"{where}: {name} {key}: count must be a non-negative integer")
+                if (b := tuple(key.split("|"))) not in valid or type(n) is not int or n < 0:
+                    raise InputError(f"{where}: {name} {key!r}: not a bin of {name} with a count of 0 or more")
                 runs.hits[name][b] += n
         runs.files += 1
         runs.tests.add(str(doc.get("test", "?")))
