@@ -118,7 +118,8 @@ def load(path: Path) -> Protocol:
         raise TableError(f"{path}: {e}") from None
     sections = ("packet", "command", "message", "digcfg", "devcode", "heartbeat", "timer", "device_id", "defaults",
                 "packet_kind")
-    _keys({k: 0 for k in raw}, path.name, sections)
+    if extra := sorted(set(raw) - set(sections)):
+        raise TableError(f"{path.name}: unknown table(s) {', '.join(extra)}")
     if missing := [k for k in sections if not raw.get(k)]:
         raise TableError(f"{path.name}: missing [{missing[0]}]")
 
