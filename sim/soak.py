@@ -40,7 +40,6 @@ from harness import Lines, make_built
 BAUD = 115200
 A = 2
 NUM_PINS = 5
-TIMER_PINS = (1, 2, 3, 4)  # TIMER_MASK 30
 TICK_S = 1.6e-6
 TIMER_TIMEOUT_S = 65535 * TICK_S
 # Low pulses on pins 3 and 4 (the pads rest high) every 360 us, timed in width mode: a result
@@ -112,35 +111,28 @@ class Virtual:
 
 @dataclass
 class Phase:
+    """One phase's calls: each one's outcome counted, its time against its bound, and what
+    fails the soak (a call past its bound, an exception outside BrainStemError) in `failures`."""
+
     name: str
-    ber: float
     outcomes: collections.Counter = field(default_factory=collections.Counter)
     slowest: tuple[float, float, str] = (0.0, 0.0, "")  # (ratio to timeout, seconds, call)
-    over_bound: list[str] = field(default_factory=list)
-    foreign: list[str] = field(default_factory=list)
+    failures: list[str] = field(default_factory=list)
     wrong: list[str] = field(default_factory=list)
     flips: tuple[int, ...] = (0, 0, 0, 0)
     link: dict[str, int] = field(default_factory=dict)
-    reader_alive: bool = True
     seconds: float = 0.0
 
     @property
     def calls(self) -> int:
         return sum(self.outcomes.values())
 
-
-class Caller:
-    """Runs one library call, times it against its bound and counts its outcome in `phase`."""
-
-    def __init__(self, phase: Phase) -> None:
-        self.phase = phase
-
-    def __call__(self, op: str, fn: Callable[[], Any], check: Callable[[Any], str | None], *,
-                 timeout: float = CALL_TIMEOUT, expect: type | None = None, either: type | None = None) -> tuple[str, Any]:
+    def call(self, op: str, fn: Callable[[], Any], check: Callable[[Any], str | None], *,
+             timeout: float = CALL_TIMEOUT, expect: type | None = None, either: type | None = None) -> tuple[str, Any]:
         """`check(result)`: None when the result is what the shadow predicts, else the
         difference; `expect`: the module error predicted instead; `either`: a module error as
         good as a result (the shadow does not know)."""
-        ph, t0 = self.phase, time.monotonic()
+        t0 = time.monotonic()
         try:
             result = fn()
         except BrainStemError as e:
@@ -149,17 +141,20 @@ class Caller:
                 f"{type(e).__name__} ({e.code})" if isinstance(e, ModuleError) else type(e).__name__)
         except Exception as e:  # noqa: BLE001 - that is what this counts
             result, outcome = e, f"foreign {type(e).__name__}"
-            ph.foreign.append(f"{op}: {type(e).__name__}: {e}")
+            self.failures.append(f"an exception outside BrainStemError: {op}: {type(e).__name__}: {e}")
         else:
             diff = f"no {expect.__name__}" if expect is not None else check(result)
             outcome = OK if diff is None else WRONG
-            ph.wrong += [f"{op}: {diff}"] * (diff is not None)
+            self.wrong += [f"{op}: {diff}"] * (diff is not None)
         took, bound = time.monotonic() - t0, timeout + CALL_TIMEOUT + GRACE_S
         if took > bound:
-            ph.over_bound.append(f"{op}: {took:.3f} s (bound {bound:.3f} s)")
-        ph.slowest = max(ph.slowest, (took / timeout, took, op))
-        ph.outcomes[outcome] += 1
+            self.failures.append(f"a call past its bound: {op}: {took:.3f} s (bound {bound:.3f} s)")
+        self.slowest = max(self.slowest, (took / timeout, took, op))
+        self.outcomes[outcome] += 1
         return outcome, result
+
+
+Call = Callable[..., tuple[str, Any]]
 
 
 class Soak:
@@ -180,15 +175,15 @@ class Soak:
         out = self.output(pin)
         return {"expect": CmdIndexErr if out is when else None, "either": CmdIndexErr if out is None else None}
 
-    def _configure(self, call: Caller, pin: int, cfg: int) -> bool:
+    def _configure(self, call: Call, pin: int, cfg: int) -> bool:
         outcome, _ = call(f"configure pin {pin} 0x{cfg:02X}", lambda: self.m.configure(pin, cfg), lambda r: None)
         self.cfg[pin] = cfg if outcome == OK else None
         return outcome == OK
 
-    def op_configure(self, call: Caller) -> None:
+    def op_configure(self, call: Call) -> None:
         self._configure(call, self.rng.randrange(NUM_PINS), self.rng.randrange(32) | (self.rng.random() < 0.6))
 
-    def op_query(self, call: Caller) -> None:
+    def op_query(self, call: Call) -> None:
         pin = self.rng.randrange(NUM_PINS)
         want = self.cfg[pin]
         outcome, r = call(f"query pin {pin}", lambda: self.m.query(pin), lambda r: None if want is None or int(r) == want
@@ -198,11 +193,11 @@ class Soak:
         elif outcome != OK:
             self.cfg[pin] = None
 
-    def op_write(self, call: Caller) -> None:
+    def op_write(self, call: Call) -> None:
         pin, value = self.rng.randrange(NUM_PINS), self.rng.randrange(2)
         call(f"write pin {pin} {value}", lambda: self.m.write(pin, value), lambda r: None, **self.index_err(pin, False))
 
-    def op_read(self, call: Caller) -> None:
+    def op_read(self, call: Call) -> None:
         pin = self.rng.randrange(NUM_PINS)
         out, want = self.output(pin), None if pin in PULSE_US and self.v.trains_running() else 1  # pull-ups, or a train
 
@@ -212,7 +207,7 @@ class Soak:
             return None if out is None or want is None or r == want else f"pin {pin} read {r}, not {want}"
         call(f"read pin {pin}", lambda: self.m.read(pin), check, **self.index_err(pin, True))
 
-    def op_time_pin(self, call: Caller) -> None:
+    def op_time_pin(self, call: Call) -> None:
         pin = self.rng.choice(sorted(PULSE_US))
         if self._configure(call, pin, 0x11):  # input, width timer of a low pulse
             self.v.cover(1.0)
@@ -220,15 +215,15 @@ class Soak:
             call(f"time_pin pin {pin}", lambda: self.m.time_pin(pin), lambda r: None if abs(r.ticks - want) <= TICK_SLACK
                  else f"pin {pin} timer {r.ticks} ticks, not {want:g}", timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
 
-    def op_echo(self, call: Caller) -> None:
+    def op_echo(self, call: Call) -> None:
         data = bytes(self.rng.randrange(256) for _ in range(self.rng.randrange(8)))
         call(f"echo {data.hex()}", lambda: self.m.echo(data), lambda r: None if r == data else f"echo {r.hex()}, not {data.hex()}")
 
-    def op_no_timer(self, call: Caller) -> None:
+    def op_no_timer(self, call: Call) -> None:
         call("time_pin pin 0", lambda: self.m.time_pin(0), lambda r: None, expect=CmdIndexErr,
              timeout=CALL_TIMEOUT + TIMER_TIMEOUT_S)
 
-    def op_pipelined(self, call: Caller) -> None:
+    def op_pipelined(self, call: Call) -> None:
         pin = self.rng.randrange(3)
         if not self.output(pin) and not self._configure(call, pin, 0x00):
             return
@@ -239,11 +234,20 @@ class Soak:
             if outcome == OK:
                 call(f"Pending.result pin {pin} {value}", p.result, lambda r: None)
 
-    def random_calls(self, phase: Phase, calls: int) -> None:
-        call, t0 = Caller(phase), time.monotonic()
+    def phase(self, name: str, ber: float, calls: int) -> Phase:
+        """`calls` random calls at `ber`, with the line's and the library's counts of the phase."""
+        self.v.trains_wait_out()
+        self.v.ask(f"ber {ber:g}", rf"\] ber {re.escape(f'{ber:g}')} +line noise")
+        flips0, link0, phase, t0 = self.v.stats(), link_counts(self.m), Phase(name), time.monotonic()
         while phase.calls < calls:
-            getattr(self, "op_" + self.rng.choices(list(OPS), list(OPS.values()))[0])(call)
+            getattr(self, "op_" + self.rng.choices(list(OPS), list(OPS.values()))[0])(phase.call)
         phase.seconds = time.monotonic() - t0
+        self.v.trains_wait_out()
+        phase.flips = tuple(a - b for a, b in zip(self.v.stats(), flips0))
+        phase.link = {k: val - link0[k] for k, val in link_counts(self.m).items()}
+        if not reader_alive():
+            phase.failures.append("the library's reader thread is dead")
+        return phase
 
 
 def link_counts(m: brainstem_dio.Module) -> dict[str, int]:
@@ -305,36 +309,6 @@ class Checks:
             self.m.configure(pin)
         return "; ".join(bad[:5]) or None
 
-    def width_timers(self) -> str | None:
-        bad = []
-        for pin in TIMER_PINS:
-            self.m.configure(pin, timer_width=True, timer_high=False)
-            handle = self.m.start_timer(pin)
-            self.v.send(f"pin {pin} pulse 800us")  # after the start is confirmed: 500 ticks
-            if abs((r := handle.result()).ticks - 500) > TICK_SLACK:
-                bad.append(f"pin {pin}: {r.ticks} ticks for an 800 us pulse")
-            self.m.configure(pin)
-        return "; ".join(bad) or None
-
-    def edge_timer(self) -> str | None:
-        self.m.configure(3, timer_high=False)  # edge timer to low
-        t0 = time.monotonic()
-        handle = self.m.start_timer(3)
-        self.v.send("wait 20ms", "pin 3 low")
-        r, took = handle.result(2.0), time.monotonic() - t0
-        self.v.send("pin 3 high")
-        self.m.configure(3)
-        # 20 ms of simulated time after the confirmed start, not more than the wall clock (plus
-        # the 0.1 s a lagging module may catch up by).
-        ok = r.seconds is not None and 0.020 <= r.seconds <= took + 0.1
-        return None if ok else f"edge timer: {r} after a 20 ms wait ({took:.3f} s of wall time)"
-
-    def timer_timeout(self) -> str | None:
-        self.m.configure(2, timer_high=False)  # edge to low; pin 2's pad stays high
-        r = self.m.time_pin(2)
-        self.m.configure(2)
-        return None if r.timed_out and r.ticks == 0 else f"timer timeout: {r}"
-
     def time_pin_on_trains(self) -> str | None:
         bad = []
         for pin, us in PULSE_US.items():
@@ -384,9 +358,8 @@ class Checks:
         return f"heartbeats answered {self.m.link.stats.heartbeat_answers - answers} in 3 s; last link_up line: {last}"
 
     def run(self) -> None:
-        framing0, seen0 = self.m.link.stats.framing_errors, len(self.s.framing)
         self.m.drain()  # what the noise left in the queue
-        unsolicited0 = self.m.link.stats.unsolicited
+        framing0, seen0, unsolicited0 = self.m.link.stats.framing_errors, len(self.s.framing), self.m.link.stats.unsolicited
 
         def no_strays() -> str | None:
             self.m.sync()
@@ -402,52 +375,39 @@ class Checks:
         for name, fn in ((("time_pin on pins 3 and 4 while pulse trains run (5 each; the results mostly come "
                            "before the start's confirmation)"), self.time_pin_on_trains),
                          ("every pin's configuration written and read back (5 x 32)", self.every_configuration),
-                         ("width timer on pins 1-4 (800 us pulse = 500 ticks)", self.width_timers),
-                         ("edge timer on pin 3 (20 ms)", self.edge_timer),
-                         ("the module's timer timeout on pin 2 (result 0)", self.timer_timeout),
                          ("24 pipelined wait=False writes on pins 0-2 (pads in the transcript)", self.pipelined_writes),
                          ("the heartbeat's link_up back up", self.heartbeat_link_up),
                          ("no stray packet, no framing error during the checks", no_strays)):
             self.check(name, fn)
-
-
-def table(phases: list[Phase]) -> str:
-    def row(name: str, cell: Callable[[Phase], object]) -> str:
-        return f"| {name} | " + " | ".join(str(cell(p)) for p in phases) + " |"
-    kinds = [OK, WRONG] + sorted({o for p in phases for o in p.outcomes} - {OK, WRONG})
-    return "\n".join([
-        "| | " + " | ".join(p.name for p in phases) + " |", "|---|" + "---:|" * len(phases),
-        row("calls", lambda p: p.calls), *(row(k, lambda p, k=k: p.outcomes.get(k, 0)) for k in kinds),
-        row("slowest call / its timeout", lambda p: f"{p.slowest[1]:.3f} s = {p.slowest[0]:.2f} x ({p.slowest[2]})"),
-        row("bits flipped host → module", lambda p: f"{p.flips[0]} of {p.flips[1]}"),
-        row("bits flipped module → host", lambda p: f"{p.flips[2]} of {p.flips[3]}"),
-        *(row(f"library: {k.replace('_', ' ')}", lambda p, k=k: p.link.get(k, 0)) for k in LINK_COUNTS),
-        row("wall time", lambda p: f"{p.seconds:.1f} s")])
+        if not reader_alive():
+            self.results.append(("the library's reader thread alive after the checks", "dead"))
 
 
 @dataclass
 class Result:
     phases: list[Phase]
-    recovered: float | None
-    checks: list[tuple[str, str | None]]
-    failures: list[str]
-    retried: list[str] = field(default_factory=list)
-    behind: list[str] = field(default_factory=list)  # the virtual module's reports of lag and stalls
+    checks: list[tuple[str, str | None]]  # the first: the link answering after the noise
+    retried: list[str]
+    behind: list[str]  # the virtual module's reports of lag and stalls
 
-
-def criteria(phases: list[Phase], recovered: float | None, checks: list[tuple[str, str | None]]) -> list[str]:
-    failures = []
-    for p in phases:
-        failures += [f"{p.name}: a call past its bound: {s}" for s in p.over_bound[:5]]
-        failures += [f"{p.name}: an exception outside BrainStemError: {s}" for s in p.foreign[:5]]
-        failures += [f"{p.name}: the library's reader thread is dead"] * (not p.reader_alive)
-    failures += ["the link did not answer within 2 s after the noise stopped"] * (recovered is None)
-    return failures + [f"check failed: {name}: {why}" for name, why in checks if why is not None]
+    @property
+    def failures(self) -> list[str]:
+        return ([f"{p.name}: {f}" for p in self.phases for f in p.failures[:10]]
+                + [f"check failed: {name}: {why}" for name, why in self.checks if why is not None])
 
 
 def report(res: Result) -> str:
-    rec = "never (within 2 s)" if res.recovered is None else f"{res.recovered:.3f} s"
-    lines = [table(res.phases), "", f"After the noise: the link answered in {rec}; the functional check:", ""]
+    def row(name: str, cell: Callable[[Phase], object]) -> str:
+        return f"| {name} | " + " | ".join(str(cell(p)) for p in res.phases) + " |"
+    kinds = [OK, WRONG] + sorted({o for p in res.phases for o in p.outcomes} - {OK, WRONG})
+    lines = [
+        "| | " + " | ".join(p.name for p in res.phases) + " |", "|---|" + "---:|" * len(res.phases),
+        row("calls", lambda p: p.calls), *(row(k, lambda p, k=k: p.outcomes.get(k, 0)) for k in kinds),
+        row("slowest call / its timeout", lambda p: f"{p.slowest[1]:.3f} s = {p.slowest[0]:.2f} x ({p.slowest[2]})"),
+        row("bits flipped host → module", lambda p: f"{p.flips[0]} of {p.flips[1]}"),
+        row("bits flipped module → host", lambda p: f"{p.flips[2]} of {p.flips[3]}"),
+        *(row(f"library: {k.replace('_', ' ')}", lambda p, k=k: p.link.get(k, 0)) for k in LINK_COUNTS),
+        row("wall time", lambda p: f"{p.seconds:.1f} s"), "", "After the noise, the functional check:", ""]
     lines += [f"- {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}") for name, why in res.checks]
     lines += [f"- run again, having failed while the module was behind real time: {r}" for r in res.retried]
     if wrong := [f"- {p.name}: {w}" for p in res.phases for w in p.wrong]:
@@ -467,43 +427,27 @@ def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Ca
         log(f"soak: seed {seed}; virtual module: {v.seed_line}")
         try:
             with brainstem_dio.open(v.port, A, timeout=CALL_TIMEOUT) as m:
-                return _run(m, v, random.Random(seed), [("quiet", 0.0, baseline)] + [
-                    (f"BER {b:g}", b, calls) for b in bers], log)
+                m.sync()
+                soak, phases = Soak(m, v, random.Random(seed)), []
+                for name, ber, n in [("quiet", 0.0, baseline)] + [(f"BER {b:g}", b, calls) for b in bers]:
+                    phases.append(phase := soak.phase(name, ber, n))
+                    log(f"soak: {name}: {phase.calls} calls in {phase.seconds:.1f} s: "
+                        + ", ".join(f"{k} {c}" for k, c in phase.outcomes.most_common()))
+                v.ask("ber 0", r"\] ber 0 +line noise")
+                rec = answering_after(m, time.monotonic())
+                for pin in range(NUM_PINS):  # what the noise left: every pin an input again
+                    with contextlib.suppress(BrainStemError):
+                        m.configure(pin)
+                checks = Checks(soak)
+                checks.results.append(("the link answering within 2 s of the noise stopping"
+                                       + ("" if rec is None else f" ({rec:.3f} s)"), None if rec is not None else "no answer"))
+                checks.run()
+                return Result(phases, checks.results, checks.retried, v.err.find(r"^behind real time"))
         finally:
             v.stop()
             TRANSCRIPT.parent.mkdir(parents=True, exist_ok=True)
             TRANSCRIPT.write_text(v.out.text() + "\n" + v.err.text() + "\n", encoding="utf-8")
             log(f"soak: the virtual module's transcript: {TRANSCRIPT}")
-
-
-def _run(m: brainstem_dio.Module, v: Virtual, rng: random.Random, plan: list[tuple[str, float, int]],
-         log: Callable[[str], None]) -> Result:
-    m.sync()
-    soak, phases = Soak(m, v, rng), []
-    for name, ber, n in plan:
-        v.trains_wait_out()
-        v.ask(f"ber {ber:g}", rf"\] ber {re.escape(f'{ber:g}')} +line noise")
-        flips0, link0, phase = v.stats(), link_counts(m), Phase(name, ber)
-        soak.random_calls(phase, n)
-        v.trains_wait_out()
-        phase.flips = tuple(a - b for a, b in zip(v.stats(), flips0))
-        phase.link = {k: val - link0[k] for k, val in link_counts(m).items()}
-        phase.reader_alive = reader_alive()
-        phases.append(phase)
-        log(f"soak: {name}: {phase.calls} calls in {phase.seconds:.1f} s: "
-            + ", ".join(f"{k} {c}" for k, c in phase.outcomes.most_common()))
-    v.ask("ber 0", r"\] ber 0 +line noise")
-    recovered = answering_after(m, time.monotonic())
-    for pin in range(NUM_PINS):  # what the noise left: every pin an input again
-        with contextlib.suppress(BrainStemError):
-            m.configure(pin)
-    (checks := Checks(soak)).run()
-    for name, why in checks.results:
-        log(f"soak: check {'pass' if why is None else 'FAIL'}: {name}" + ("" if why is None else f": {why}"))
-    if not reader_alive():
-        checks.results.append(("the library's reader thread alive after the checks", "dead"))
-    return Result(phases, recovered, checks.results, criteria(phases, recovered, checks.results),
-                  checks.retried, v.err.find(r"^behind real time"))
 
 
 def main(argv: list[str] | None = None) -> int:
