@@ -51,7 +51,9 @@ WAVE_EXT := $(if $(HAVE_LZ4),fst,vcd)
 # beyond about 16): hence gcc's. FAST: the bench and virtual builds, which must keep up.
 verilate = @mkdir -p $(@D) && $(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --quiet-stats -Irtl \
 	--top-module $(1) $(2) -CFLAGS -O2 -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include -Mdir $(@D) -o $(@F) \
-	$(RTL) $(CURDIR)/$(3) > $(@D).log 2>&1 || { cat $(@D).log; exit 1; }
+	$(RTL) $(CURDIR)/$(3) > $(@D).log 2>&1 || { cat $(@D).log; exit 1; }; \
+	if grep -q "region trigger index [1-9]" $(@D)/*.cpp || ! grep -q "trigger index 0 is active: @(posedge clk)" \
+	    $(@D)/*.cpp; then echo "$@: sim/fast_eval.h needs posedge clk as the model's only trigger"; rm -f $@; exit 1; fi
 FAST := --x-assign fast --x-initial fast --noassert -MAKEFLAGS "OPT_FAST=-O2 OPT_SLOW=-O1 OPT_GLOBAL=-O2"
 
 all: lint test

@@ -75,6 +75,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "Vbrainstem_dio_uart.h"
@@ -174,6 +175,7 @@ class Board {
         top_->pin_i = ext_ & kPinsMask;
         top_->clk = 0;
         top_->eval();  // the public one first: initial blocks (sim/fast_eval.h)
+        sync_inputs();
         // Power-up: the outputs' values before the first reset are no pad changes.
         quiet_ = true;
         reset();
@@ -206,9 +208,11 @@ class Board {
         host_.clear();
         top_->rst = 1;
         settle(*top_);
+        sync_inputs();
         for (int i = 0; i < 4; ++i) clock();
         top_->rst = 0;
         settle(*top_);
+        sync_inputs();
         tx_bit_ = -1;
         cur_.clear();
         clear_frames();
@@ -328,12 +332,16 @@ class Board {
         if (dump) {  // through the public eval(): it marks the activity the waveform records
             top_->clk = 1;
             top_->eval();
+            sync_inputs();
             trace_->dump(2 * cycle_ + 1);
         } else {
-            posedge(*top_);
+            posedge(*top_, inputs_.changed(top_->rst, top_->rx, top_->pin_i));
         }
         ++cycle_;
     }
+
+    // After a public eval(): the inputs its input logic ran with (sim/fast_eval.h).
+    void sync_inputs() { inputs_.sync(top_->rst, top_->rx, top_->pin_i); }
 
     // The rx line: start bit, 8 data bits LSB first, stop bit, each kDiv clocks.
     void rx_step() {
@@ -520,6 +528,8 @@ class Board {
 
     std::unique_ptr<Vbrainstem_dio_uart> top_;
     std::unique_ptr<Trace> trace_;
+    // Every input but clk, as sync_inputs() and clock() pass them.
+    Inputs<CData, CData, std::remove_reference_t<decltype(Vbrainstem_dio_uart::pin_i)>> inputs_;
     bool quiet_;
     HostFramer host_;
     uint64_t cycle_ = 0;
