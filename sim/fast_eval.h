@@ -5,11 +5,23 @@
 // and two rounds of the runtime's per-eval() bookkeeping (locks for deferred deletes and
 // messages from other threads, which a single-threaded model without classes never has);
 // the clk = 0 pass changes no state, as the core has no negedge logic. bsdsim::posedge
-// instead runs the model's scheduler once with the trigger's memory of clk set to 0: the
-// rising edge, with the inputs set since the last edge. The first eval() must be the public
-// one (it runs the model's initial blocks); settle() is that eval() again, without an edge.
-// A clock that goes into a waveform takes the public eval() for both edges: eval() also marks
-// the activity that the trace's dump() looks for.
+// instead runs the two regions of the generated scheduler that a rising edge needs, once
+// each: the input logic ("ico": the logic that reads a top-level input) and the clocked
+// logic with what follows from it ("nba"), with the trigger that selects them set by hand.
+// The scheduler's own loops (each region run again to see that nothing more triggers) are
+// skipped: with the clock as the model's only trigger, nothing does. The Makefile checks that
+// (one trigger in the generated model, else the build stops).
+//
+// The input logic runs only when an input other than clk changed since it last ran: the
+// logic that reads both inputs and flops is also in the nba region, which brings it up to
+// date after every edge, so with the same inputs the ico pass would compute what is already
+// there. The harness keeps an Inputs record of the values it last evaluated with; the
+// public eval() (settle(), and a clock that goes into a waveform) runs the ico pass itself,
+// so the harness records the inputs after each (Inputs::sync).
+//
+// The first eval() must be the public one (it runs the model's initial blocks); settle() is
+// that eval() again, without an edge. A clock that goes into a waveform takes the public
+// eval() for both edges: eval() also marks the activity that the trace's dump() looks for.
 //
 // What the harness samples "before the edge" it reads right after the previous one: the
 // outputs come from flops (AXI-Stream: valid never waits on ready; s_axis_tready from flops,
@@ -19,13 +31,52 @@
 // fails to compile here, not silently.
 #pragma once
 
+#include <cstdint>
+#include <tuple>
+
 #define BSD_FAST_EVAL(TOP)                                                          \
-    void TOP##___024root___eval(TOP##___024root* vlSelf);                            \
+    void TOP##___024root___eval_ico(TOP##___024root* vlSelf);                        \
+    void TOP##___024root___eval_nba(TOP##___024root* vlSelf);                        \
     namespace bsdsim {                                                               \
-    inline void posedge(TOP& top) {                                                  \
+    inline void posedge(TOP& top, bool inputs_changed) {                             \
+        TOP##___024root& r = *top.rootp;                                             \
         top.clk = 1;                                                                 \
-        top.rootp->__Vtrigprevexpr___TOP__clk__0 = 0;                                \
-        TOP##___024root___eval(top.rootp);                                           \
+        if (inputs_changed) {                                                        \
+            r.__VicoTriggered[0] = 1; /* the first-iteration trigger */              \
+            TOP##___024root___eval_ico(&r);                                          \
+        }                                                                            \
+        r.__VnbaTriggered[0] = 1; /* the clock's, the model's only trigger */        \
+        TOP##___024root___eval_nba(&r);                                              \
+        r.__VnbaTriggered[0] = 0;                                                    \
+        r.__Vtrigprevexpr___TOP__clk__0 = 1; /* as eval() leaves it */              \
     }                                                                                \
     inline void settle(TOP& top) { top.eval(); }                                     \
     }
+
+namespace bsdsim {
+
+// The inputs (besides clk) the model last evaluated its input logic with: changed(v...)
+// tells whether they differ now, and records them; sync(v...) records them after a public
+// eval(). The harness passes the same inputs, in the same order, to both.
+template <typename... T>
+class Inputs {
+  public:
+    bool changed(T... now) {
+        // One OR of XORs, not a compare and branch per input.
+        const uint64_t diff = std::apply([&](auto... last) { return ((uint64_t(last) ^ uint64_t(now)) | ...); }, last_);
+        last_ = std::tuple<T...>{now...};
+        const bool stale = stale_;
+        stale_ = false;
+        return diff != 0 || stale;
+    }
+    void sync(T... now) {
+        last_ = std::tuple<T...>{now...};
+        stale_ = false;
+    }
+
+  private:
+    std::tuple<T...> last_{};
+    bool stale_ = true;  // nothing recorded yet
+};
+
+}  // namespace bsdsim

@@ -30,6 +30,7 @@
 #include <deque>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "Vbrainstem_dio.h"
@@ -58,7 +59,7 @@ constexpr double kExpectLimitS = 0.2;  // above the 104.9 ms timer timeout
 class Session {
   public:
     Session(VerilatedContext* ctx, const char* wave, bool quiet)
-        : top_(new Vbrainstem_dio{ctx}), quiet_(quiet) {
+        : top_(new Vbrainstem_dio{ctx}), r_(*top_->rootp), quiet_(quiet), watch_(!quiet || wave) {
 #if VM_TRACE
         if (wave) {
             ctx->traceEverOn(true);
@@ -74,6 +75,7 @@ class Session {
         top_->m_axis_tready = 1;
         top_->clk = 0;
         top_->eval();  // the public one first: initial blocks (sim/fast_eval.h)
+        sync_inputs();
         reset();
     }
     ~Session() {
@@ -90,9 +92,11 @@ class Session {
         cur_.clear();
         top_->rst = 1;
         settle(*top_);  // s_axis_tready follows rst without a clock
+        sync_inputs();
         for (int i = 0; i < 4; ++i) clock();
         top_->rst = 0;
         settle(*top_);
+        sync_inputs();
         log("reset", "");
     }
 
@@ -142,6 +146,7 @@ class Session {
             {A, CMD_DIG_CFG, 1, 0x01}, {A, CMD_PTIME_RD, H | 1}};
         const uint64_t end = cycle_ + n;
         size_t k = 0;
+        bench_ = true;
         while (cycle_ < end) {
             if (txq_.empty()) {
                 const auto& c = cmds[k++ % cmds.size()];
@@ -151,8 +156,8 @@ class Session {
             }
             if ((cycle_ & 1023) == 0) top_->pin_i ^= 0x18;  // pins 3 and 4 toggle
             clock();
-            if (!out_.empty()) out_.clear();
         }
+        bench_ = false;
     }
 
     void log(const std::string& what, const std::string& meaning) {
@@ -161,42 +166,56 @@ class Session {
     }
 
   private:
+    // The model's ports are read and written on its root (r_), where they live: the top's
+    // members are references to them, one load more each.
     void clock() {
         const bool tx_valid = !txq_.empty();
-        top_->s_axis_tvalid = tx_valid;
-        top_->s_axis_tdata = tx_valid ? txq_.front() : 0;
+        r_.s_axis_tvalid = tx_valid;
+        r_.s_axis_tdata = tx_valid ? txq_.front() : 0;
         const bool dump = trace_ && (VM_TRACE_FST || cycle_ - last_event_ < window_);
         if (dump) {  // the waveform's falling edge; the model has no logic on it
-            top_->clk = 0;
+            r_.clk = 0;
             settle(*top_);
             trace_->dump(2 * cycle_);
         }
         // Handshakes and strobes are sampled before the rising edge: the outputs of the last
         // one (sim/fast_eval.h).
-        const bool s_hs = tx_valid && top_->s_axis_tready;
-        if (s_hs || top_->raw_trans || top_->rflx_valid || top_->rst) last_event_ = cycle_;
-        if (top_->m_axis_tvalid && top_->m_axis_tready) {
+        const bool s_hs = tx_valid && r_.s_axis_tready;
+        if (r_.m_axis_tvalid && r_.m_axis_tready) {
             last_event_ = cycle_;
-            cur_.push_back(top_->m_axis_tdata);
-            if (top_->m_axis_tlast) received();
+            cur_.push_back(r_.m_axis_tdata);
+            if (r_.m_axis_tlast) received();
         }
-        if (top_->raw_trans && !quiet_) raw_inputs(top_->raw_trans);
-        if (top_->rflx_valid && !quiet_) {
-            const Line l = rflx(top_->rflx_id, top_->rflx_data);
-            log(l.what, l.meaning);
+        if (watch_) {  // the transcript's strobes, and the VCD's window
+            if (s_hs || r_.raw_trans || r_.rflx_valid || r_.rst) last_event_ = cycle_;
+            if (r_.raw_trans && !quiet_) raw_inputs(r_.raw_trans);
+            if (r_.rflx_valid && !quiet_) {
+                const Line l = rflx(r_.rflx_id, r_.rflx_data);
+                log(l.what, l.meaning);
+            }
         }
         if (dump) {  // through the public eval(): it marks the activity the waveform records
-            top_->clk = 1;
+            r_.clk = 1;
             top_->eval();
+            sync_inputs();
             trace_->dump(2 * cycle_ + 1);
         } else {
-            posedge(*top_);
+            posedge(*top_, inputs_.changed(r_.rst, r_.s_axis_tvalid, r_.s_axis_tdata, r_.m_axis_tready, r_.pin_i));
         }
         ++cycle_;
         if (s_hs) txq_.pop_front();
     }
 
+    // After a public eval(): the inputs its input logic ran with (sim/fast_eval.h).
+    void sync_inputs() {
+        inputs_.sync(r_.rst, r_.s_axis_tvalid, r_.s_axis_tdata, r_.m_axis_tready, r_.pin_i);
+    }
+
     void received() {
+        if (bench_) {  // the benchmark's packets are dropped unread
+            cur_.clear();
+            return;
+        }
         out_.push_back(cur_);  // a copy: cur_ keeps its capacity for the next packet
         cur_.clear();
         if (quiet_) return;
@@ -214,8 +233,13 @@ class Session {
     }
 
     std::unique_ptr<Vbrainstem_dio> top_;
+    Vbrainstem_dio___024root& r_;
     std::unique_ptr<Trace> trace_;
+    // Every input but clk, as sync_inputs() and clock() pass them.
+    Inputs<CData, CData, CData, CData, std::remove_reference_t<decltype(Vbrainstem_dio::pin_i)>> inputs_;
     bool quiet_;
+    const bool watch_;     // a transcript or a waveform to write
+    bool bench_ = false;
     uint64_t cycle_ = 0;
     uint64_t last_event_ = 0;
     const uint64_t window_ = static_cast<uint64_t>(kVcdWindowS * kClkHz);

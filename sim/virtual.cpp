@@ -75,6 +75,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "Vbrainstem_dio_uart.h"
@@ -158,7 +159,7 @@ class HostFramer {
 class Board {
   public:
     Board(VerilatedContext* ctx, const char* wave, bool quiet)
-        : top_(new Vbrainstem_dio_uart{ctx}), quiet_(quiet), host_(quiet) {
+        : top_(new Vbrainstem_dio_uart{ctx}), r_(*top_->rootp), quiet_(quiet), host_(quiet) {
 #if VM_TRACE
         if (wave) {
             ctx->traceEverOn(true);
@@ -170,16 +171,17 @@ class Board {
         (void)ctx;
         if (wave) std::fprintf(stderr, "note: built without tracing, no waveform\n");
 #endif
-        top_->rx = 1;
-        top_->pin_i = ext_ & kPinsMask;
-        top_->clk = 0;
+        r_.rx = 1;
+        r_.pin_i = ext_ & kPinsMask;
+        r_.clk = 0;
         top_->eval();  // the public one first: initial blocks (sim/fast_eval.h)
+        sync_inputs();
         // Power-up: the outputs' values before the first reset are no pad changes.
         quiet_ = true;
         reset();
         quiet_ = quiet;
-        pin_o_ = top_->pin_o;
-        pin_oe_ = top_->pin_oe;
+        pin_o_ = r_.pin_o;
+        pin_oe_ = r_.pin_oe;
         update_pads();
         log("reset", "power-up");
     }
@@ -199,16 +201,18 @@ class Board {
         // A host byte on the line is cut off; the core's output restarts with power-up.
         rx_bit_ = -1;
         clear_frames();
-        top_->rx = 1;
+        r_.rx = 1;
         rx_next_ = rxq_.empty() ? kNever : cycle_ + 1;
         tx_bit_ = -1;
         cur_.clear();
         host_.clear();
-        top_->rst = 1;
+        r_.rst = 1;
         settle(*top_);
+        sync_inputs();
         for (int i = 0; i < 4; ++i) clock();
-        top_->rst = 0;
+        r_.rst = 0;
         settle(*top_);
+        sync_inputs();
         tx_bit_ = -1;
         cur_.clear();
         clear_frames();
@@ -272,12 +276,12 @@ class Board {
         if (cycle_ >= rx_next_) rx_step();
         const bool dump = trace_ && cycle_ - last_event_ < window_;
         if (dump) {  // the waveform's falling edge; the model has no logic on it
-            top_->clk = 0;
+            r_.clk = 0;
             settle(*top_);
             trace_->dump(2 * cycle_);
         }
         // Outputs are sampled before the rising edge: those of the last one (sim/fast_eval.h).
-        const int tx = top_->tx;
+        const int tx = r_.tx;
         // The core's frame: bit k spans kDiv clocks from the start bit's first clock; each bit
         // is drawn for noise as it begins (a next start bit may begin as the stop bit ends).
         if (txf_bit_ >= 0 && cycle_ == txf_next_) {
@@ -311,29 +315,33 @@ class Board {
         } else if (cycle_ == hx_sample_) {
             host_uart_step(line);
         }
-        if (top_->pin_o != pin_o_ || top_->pin_oe != pin_oe_) pads_changed();
-        if (top_->raw_trans) raw_inputs(top_->raw_trans);
-        if (top_->rflx_valid) {
+        if (r_.pin_o != pin_o_ || r_.pin_oe != pin_oe_) pads_changed();
+        if (r_.raw_trans) raw_inputs(r_.raw_trans);
+        if (r_.rflx_valid) {
             last_event_ = cycle_;
-            const Line l = rflx(top_->rflx_id, top_->rflx_data);
+            const Line l = rflx(r_.rflx_id, r_.rflx_data);
             log(l.what, l.meaning);
         }
-        if (top_->link_up != link_up_) {
-            link_up_ = top_->link_up;
+        if (r_.link_up != link_up_) {
+            link_up_ = r_.link_up;
             log(std::string("* link_up ") + (link_up_ ? "1" : "0"),
                 link_up_ ? "the host answers the heartbeat" : "a heartbeat went unanswered");
         }
         if (!noise_.empty() && tx_bit_ < 0 && cur_.empty()) send_noise();
-        if (bench_ && (cycle_ & 4095) == 0) top_->pin_i ^= 0x18 & kPinsMask;
+        if (bench_ && (cycle_ & 4095) == 0) r_.pin_i ^= 0x18 & kPinsMask;
         if (dump) {  // through the public eval(): it marks the activity the waveform records
-            top_->clk = 1;
+            r_.clk = 1;
             top_->eval();
+            sync_inputs();
             trace_->dump(2 * cycle_ + 1);
         } else {
-            posedge(*top_);
+            posedge(*top_, inputs_.changed(r_.rst, r_.rx, r_.pin_i));
         }
         ++cycle_;
     }
+
+    // After a public eval(): the inputs its input logic ran with (sim/fast_eval.h).
+    void sync_inputs() { inputs_.sync(r_.rst, r_.rx, r_.pin_i); }
 
     // The rx line: start bit, 8 data bits LSB first, stop bit, each kDiv clocks.
     void rx_step() {
@@ -342,7 +350,7 @@ class Board {
             ++rx_bit_;
             if (rx_bit_ < 10) {
                 const int level = rx_bit_ <= 8 ? (rx_byte_ >> (rx_bit_ - 1)) & 1 : 1;
-                top_->rx = level ^ flip(rxn_, rx_bit_);
+                r_.rx = level ^ flip(rxn_, rx_bit_);
                 rx_next_ = cycle_ + kDiv;
                 return;
             }
@@ -357,7 +365,7 @@ class Board {
         rx_byte_ = rxq_.front();
         rxq_.pop_front();
         rx_bit_ = 0;
-        top_->rx = 0 ^ flip(rxn_, 0);
+        r_.rx = 0 ^ flip(rxn_, 0);
         rx_next_ = cycle_ + kDiv;
     }
 
@@ -468,7 +476,7 @@ class Board {
 
     void pads_changed() {
         last_event_ = cycle_;
-        const uint64_t o = top_->pin_o, oe = top_->pin_oe;
+        const uint64_t o = r_.pin_o, oe = r_.pin_oe;
         for (int p = 0; p < kNumPins; ++p) {
             const uint64_t m = uint64_t{1} << p;
             const bool was = pin_oe_ & m, is = oe & m;
@@ -482,7 +490,7 @@ class Board {
         update_pads();
     }
 
-    void update_pads() { top_->pin_i = ((pin_oe_ & pin_o_) | (~pin_oe_ & ext_)) & kPinsMask; }
+    void update_pads() { r_.pin_i = ((pin_oe_ & pin_o_) | (~pin_oe_ & ext_)) & kPinsMask; }
 
     void raw_inputs(uint64_t bits) {
         last_event_ = cycle_;
@@ -519,7 +527,12 @@ class Board {
     }
 
     std::unique_ptr<Vbrainstem_dio_uart> top_;
+    // The ports are read and written on the model's root, where they live: the top's members
+    // are references to them, one load more each.
+    Vbrainstem_dio_uart___024root& r_;
     std::unique_ptr<Trace> trace_;
+    // Every input but clk, as sync_inputs() and clock() pass them.
+    Inputs<CData, CData, std::remove_reference_t<decltype(Vbrainstem_dio_uart::pin_i)>> inputs_;
     bool quiet_;
     HostFramer host_;
     uint64_t cycle_ = 0;
@@ -880,7 +893,7 @@ void bench(Board& b, double seconds) {
         t = wall();
     }
     const double sim = (b.cycles() - c0) / double(kClkHz), p = cpu() - p0;
-    std::printf("bench: clk %" PRIu64 " Hz, baud %" PRIu64 ": simulated %.3f s in %.3f s wall, %.3f s cpu: "
+    std::printf("bench: clk %" PRIu64 " Hz, baud %" PRIu64 ": simulated %.6f s in %.3f s wall, %.3f s cpu: "
                 "ratio %.3f wall, %.3f cpu; %.0f cycles per cpu second\n",
                 kClkHz, kBaud, sim, t - t0, p, sim / (t - t0), sim / p, (b.cycles() - c0) / p);
 }
