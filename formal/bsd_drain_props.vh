@@ -15,6 +15,7 @@
     reg                f_have_k, f_dio_done;
     reg [5:0]          f_last_k;
     integer            f_j2;
+    wire [5:0]         k_id = CONTIG ? ID0 + k : IDS[6*k +: 6];  // the picked timer's ID
 
     function [3:0] f_count(input [2*NT+25:0] e);
         integer f_j;

@@ -116,7 +116,6 @@ module bsd_drain #(
     wire [5:0]          k;
     bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
     genvar g;
-    wire [5:0]          k_id      = CONTIG ? ID0 + k : IDS[6*k +: 6];
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
     // not above its own): the timers that do are worked out as the entry is
     // taken (before_q), so the pick compares no IDs.
@@ -206,7 +205,10 @@ module bsd_drain #(
     assign rflx_id_o     = rflx_id_q;
     assign rflx_data_o   = rflx_data_q;
 
-    reg  [5:0] a_id_q, b_id_q;
+    // The timer's device ID from stage A's index (not from the pick: the ID's
+    // adder or table stays off the pick's carry chain).
+    reg  [5:0] b_id_q;
+    wire [5:0] a_id = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];
 
     always @(posedge clk) begin
         // The entry: loaded as the last one's last item goes, then one item a clock.
@@ -242,7 +244,6 @@ module bsd_drain #(
         a_dio_id_q  <= dio_id_q;
         a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
-        a_id_q  <= k_id;
         a_t16_q <= t_q;
         b_ord_q  <= (a_t_q && a_f_q && host64[a_k_q]) || a_rep_q || a_hb_q;
         b_rdone_q <= a_t_q && a_f_q && rflx64[a_k_q];
@@ -251,7 +252,7 @@ module bsd_drain #(
         b_hb_q   <= a_hb_q;
         b_tmo_q  <= a_r_q;  // with a_f_q: a timeout
         b_k_q    <= a_k_q;
-        b_id_q   <= a_id_q;
+        b_id_q   <= a_id;
         b_dio_id_q  <= a_dio_id_q;
         b_dio_val_q <= a_dio_val_q;
         b_t16_q  <= a_t16_q;
