@@ -6,8 +6,8 @@
 // a clock; timers in ascending order; the DIG_IO value before the first timer whose ID is
 // above its own and after every timer whose ID is not; the reply after every timer and the
 // DIG_IO value, the heartbeat last; every item of an entry taken exactly once before the
-// next entry is taken (nothing lost or repeated), and the next one taken on the clock the
-// last item goes (an item every clock, so the queue drains at one item a clock).
+// next entry is taken (nothing lost or repeated), and the next one taken on the clock after
+// the last item goes (an item every clock, and one idle clock between entries).
     reg                f_past_valid = 1'b0;
     reg                f_rst_q, f_v_q, f_r_q;
     reg [2*NT+25:0]    f_d_q;
@@ -15,6 +15,7 @@
     reg                f_have_k, f_dio_done;
     reg [5:0]          f_last_k;
     integer            f_j2;
+    wire [5:0]         k_id = CONTIG ? ID0 + k : IDS[6*k +: 6];  // the picked timer's ID
 
     function [3:0] f_count(input [2*NT+25:0] e);
         integer f_j;
@@ -75,11 +76,12 @@
             if (next) assert(f_taken + {1'b0, f_takes} == f_items);
             assert(ev_ready_o == next);
             assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
+            assert(any_t_q == |rem);
         end
     end
 
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
         cover(take_dio && any_t);                              // the DIG_IO value between timers
         cover(take_hb && f_items == 4'd5);                     // a full entry's last item
-        cover(b_fin_q && b_tmo_q && rflx_valid_q == 1'b0 && order_valid_o);
+        cover(b_ord_q && !b_rep_q && !b_hb_q && b_tmo_q && rflx_valid_q == 1'b0);
     end

@@ -43,10 +43,10 @@
             if (m_axis_tvalid) assert(m_axis_tdata == f_out_cnt);
             // Occupancy: the RAM's words plus the read register's and the skid's.
             assert(f_ram <= DEPTH);
-            assert(!skid_valid_q || out_valid_q);
-            assert(f_held == f_ram + {{(WIDTH-1){1'b0}}, out_valid_q} + {{(WIDTH-1){1'b0}}, skid_valid_q});
+            assert(!skid_valid || out_valid_q);
+            assert(f_held == f_ram + {{(WIDTH-1){1'b0}}, out_valid_q} + {{(WIDTH-1){1'b0}}, skid_valid});
             // The skid holds the head, the read register the word after it.
-            if (skid_valid_q) begin
+            if (skid_valid) begin
                 assert(skid_data_q == f_out_cnt);
                 assert(out_data_q == f_out_cnt + 1'b1);
             end else if (out_valid_q) begin
@@ -62,7 +62,7 @@
             // Induction: the RAM holds the next words in order.
             for (f_k = 0; f_k < DEPTH; f_k = f_k + 1)
                 if (f_k < f_ram) begin
-                    f_exp = f_out_cnt + out_valid_q + skid_valid_q + f_k;
+                    f_exp = f_out_cnt + out_valid_q + skid_valid + f_k;
                     assert(mem[(rd_q[AW-1:0] + f_k) % DEPTH] == f_exp);
                 end
         end
@@ -71,7 +71,7 @@
     reg f_was_full = 1'b0;
     always @(posedge clk) if (ram_full_q) f_was_full <= 1'b1;
     always @(*) if (f_past_valid && !rst) begin
-        cover(ram_full_q && skid_valid_q);           // DEPTH + 2 words held
+        cover(ram_full_q && (skid_valid || SKID == 0)); // DEPTH + SKID + 1 words held
         cover(f_was_full && empty_o);                // filled, then drained
         cover(push && pop);                          // a write and a read on one clock
     end

@@ -469,7 +469,7 @@ module brainstem_dio #(
     // write enable; an entry that meets the drain's last item is queued.)
     wire          ev_skip  = evq_empty && drain_empty && !ev_any;
 
-    bsd_fifo #(.WIDTH(EW), .DEPTH(256)) u_evq (
+    bsd_fifo #(.WIDTH(EW), .DEPTH(256), .SKID(0)) u_evq (
         .clk           (clk),
         .rst           (core_rst),
         .s_axis_tdata  (ev_entry),

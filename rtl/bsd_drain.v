@@ -88,18 +88,6 @@ module bsd_drain #(
     localparam       CONTIG = contiguous(0);
     localparam [5:0] ID0    = IDS[5:0];
 
-    // The pins of bit b of an index, for the one-hot to index encoder (word
-    // operations, not a loop over the pins).
-    // Only localparam initializers call it: it runs while elaborating, never in simulation.
-    /* verilator coverage_off */
-    function [NT-1:0] index_bit(input integer b);
-        integer t;
-        begin
-            for (t = 0; t < NT; t = t + 1) index_bit[t] = ((t >> b) & 1) != 0;
-        end
-    endfunction
-    /* verilator coverage_on */
-
     // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
     function [63:0] pad(input [NT-1:0] v);
         begin
@@ -111,24 +99,23 @@ module bsd_drain #(
     wire [63:0] rflx64 = pad(rflx_pend_i);
 
     // ------------------------------------------------------------ the entry
-    reg [NT-1:0]       r_q, f_q;
+    // The timers with an item left (rem_q, cleared as each is taken) and
+    // their r and f bits (r_q, f_q: only loaded, read where rem_q is set).
+    reg [NT-1:0]       rem_q, r_q, f_q;
     reg                rep_q, dio_q, hb_q;
     reg [5:0]          dio_id_q;
     reg                dio_val_q;
     reg [15:0]         t_q;
 
-    wire [NT-1:0]       rem    = r_q | f_q;
-    wire                any_t  = |rem;
+    wire [NT-1:0]       rem    = rem_q;
+    // "A timer is left" as a flop (any_t_q), so the reply's and heartbeat's
+    // picks and enables do not wait for an OR over the timers.
+    reg                 any_t_q;
+    wire                any_t  = any_t_q;
     wire [NT-1:0]       low    = rem & (~rem + {{(NT-1){1'b0}}, 1'b1});
     wire [5:0]          k;
+    bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
     genvar g;
-    generate
-        for (g = 0; g < 6; g = g + 1) begin : g_enc
-            localparam [NT-1:0] BITS = index_bit(g);
-            assign k[g] = |(low & BITS);
-        end
-    endgenerate
-    wire [5:0]          k_id      = CONTIG ? ID0 + k : IDS[6*k +: 6];
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
     // not above its own): the timers that do are worked out as the entry is
     // taken (before_q), so the pick compares no IDs.
@@ -156,47 +143,25 @@ module bsd_drain #(
     wire                take_dio  = dio_first;
     wire                take_rep  = !any_t && !dio_q && rep_q;
     wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
-    // Items left after this clock's: when none, the next entry is taken now
-    // (an item every clock, entries back to back). A clock with an item takes
-    // exactly one, so items are left when the entry has two or more, whichever
-    // is picked: counted on the entry's bits, beside the pick, not after it.
-    // "Two timers or more" by a tree of 4-bit groups (any, two or more), not
-    // a carry chain, which keeps the queue's pop (ev_ready_o) short.
-    function two_or_more(input [NT-1:0] v);
-        integer lvl, i, j, c;
-        reg [63:0] any, two, any_n, two_n;
-        begin
-            any = 64'd0;
-            any[NT-1:0] = v;
-            two = 64'd0;
-            for (lvl = 0; lvl < 3; lvl = lvl + 1) begin
-                any_n = 64'd0;
-                two_n = 64'd0;
-                for (i = 0; i < 16; i = i + 1) begin
-                    for (j = 0; j < 4; j = j + 1) begin
-                        two_n[i] = two_n[i] | two[4*i + j];
-                        for (c = j + 1; c < 4; c = c + 1)
-                            two_n[i] = two_n[i] | (any[4*i + j] & any[4*i + c]);
-                        any_n[i] = any_n[i] | any[4*i + j];
-                    end
-                end
-                any = any_n;
-                two = two_n;
-            end
-            two_or_more = two[0];
-        end
-    endfunction
-    wire                more      = two_or_more(rem) || (any_t && (dio_q || rep_q || hb_q)) ||
+    // Items left after this clock's (a clock with an item takes exactly one):
+    // the entry has two or more. "Two timers or more" is "a timer beside the
+    // lowest" (the bits the pick leaves), which ends at flops only (empty_q,
+    // any_t_q), so the pick's carry chain may feed it.
+    wire                two_t     = |(rem & ~low);
+    wire                more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
                                     (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
-    wire                next      = !more;
-
-    assign ev_ready_o = next;
-    // "No item left" as a flop of its own (not the OR of the entry's bits): it
-    // gates the queue's write enable, whose full/empty logic then starts at a
-    // flop. Items remain after a clock that takes no entry; after one that
-    // does, the new entry's own.
+    // "No item left" as a flop of its own (not the OR of the entry's bits):
+    // the next entry is taken when it is set, the clock after the last item
+    // (one idle clock between entries), so the queue's read enable and the
+    // top's queue-skip test start at a flop, not at the pick. Items remain
+    // after a clock that takes no entry when two or more were there; after
+    // one that takes an entry, the new entry's own.
     reg                 empty_q;
-    wire                ev_items  = |ev_data_i[2*NT+25:23];
+    wire                next      = empty_q;
+    wire [NT-1:0]       ev_rf     = ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT];
+    wire                ev_any_t  = |ev_rf;
+    wire                ev_items  = ev_any_t || |ev_data_i[25:23];
+    assign ev_ready_o = next;
     assign empty_o    = empty_q;
 
     // ---------------------------------------------------------- stage A, B
@@ -205,9 +170,9 @@ module bsd_drain #(
     reg [5:0]  a_dio_id_q, b_dio_id_q;
     reg        a_dio_val_q, b_dio_val_q;
     reg [15:0] a_t16_q;
-    reg        b_fin_q, b_dio_q, b_rep_q, b_hb_q;
+    reg        b_dio_q, b_rep_q, b_hb_q;
     reg        a_f_q;
-    reg        b_host_q, b_rflx_q, b_tmo_q;
+    reg        b_tmo_q;
     reg [5:0]  b_k_q;
     reg [15:0] b_t16_q;
 
@@ -227,23 +192,31 @@ module bsd_drain #(
     reg [5:0]  rflx_id_q;
     reg [15:0] rflx_data_q;
 
-    // Straight from stage B (the output queue, or the transmitter when that
-    // is empty, registers it).
-    assign order_valid_o = (b_fin_q && b_host_q) || b_rep_q || b_hb_q;
+    // Stage B's valid flags are decided in stage A and registered (b_ord_q,
+    // b_rdone_q), so the transmitter's load and the timers' clears start at
+    // a flop; the data come straight from stage B (the output queue, or the
+    // transmitter when that is empty, registers it).
+    reg        b_ord_q, b_rdone_q;
+    assign order_valid_o = b_ord_q;
     assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
-    assign rflx_done_o   = b_fin_q && b_rflx_q;
+    assign rflx_done_o   = b_rdone_q;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
     assign rflx_id_o     = rflx_id_q;
     assign rflx_data_o   = rflx_data_q;
 
-    reg  [5:0] a_id_q, b_id_q;
+    // The timer's device ID from stage A's index (not from the pick: the ID's
+    // adder or table stays off the pick's carry chain).
+    reg  [5:0] b_id_q;
+    wire [5:0] a_id = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];
 
     always @(posedge clk) begin
         // The entry: loaded as the last one's last item goes, then one item a clock.
         if (next) begin
-            r_q       <= ev_valid_i ? ev_data_i[2*NT+25 -: NT] : {NT{1'b0}};
-            f_q       <= ev_valid_i ? ev_data_i[NT+25 -: NT] : {NT{1'b0}};
+            rem_q     <= ev_valid_i ? ev_rf : {NT{1'b0}};
+            r_q       <= ev_data_i[2*NT+25 -: NT];
+            f_q       <= ev_data_i[NT+25 -: NT];
+            any_t_q   <= ev_valid_i && ev_any_t;
             rep_q     <= ev_valid_i && ev_data_i[25];
             dio_q     <= ev_valid_i && ev_data_i[24];
             hb_q      <= ev_valid_i && ev_data_i[23];
@@ -253,14 +226,15 @@ module bsd_drain #(
             t_q       <= ev_data_i[15:0];
         end else begin
             if (take_t) begin
-                r_q <= r_q & ~low;
-                f_q <= f_q & ~low;
+                rem_q <= rem_q & ~low;
+                any_t_q <= two_t;
             end
             if (take_dio) dio_q <= 1'b0;
             if (take_rep) rep_q <= 1'b0;
             if (take_hb) hb_q <= 1'b0;
         end
         empty_q <= next && !(ev_valid_i && ev_items);
+        if (!next && !more) empty_q <= 1'b1;  // this clock takes the entry's last item
         a_t_q   <= take_t;
         a_r_q <= |(r_q & low);
         a_f_q <= |(f_q & low);
@@ -270,38 +244,37 @@ module bsd_drain #(
         a_dio_id_q  <= dio_id_q;
         a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
-        a_id_q  <= k_id;
         a_t16_q <= t_q;
-        b_fin_q  <= a_t_q && a_f_q;
+        b_ord_q  <= (a_t_q && a_f_q && host64[a_k_q]) || a_rep_q || a_hb_q;
+        b_rdone_q <= a_t_q && a_f_q && rflx64[a_k_q];
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
-        b_host_q <= host64[a_k_q];
-        b_rflx_q <= rflx64[a_k_q];
         b_tmo_q  <= a_r_q;  // with a_f_q: a timeout
         b_k_q    <= a_k_q;
-        b_id_q   <= a_id_q;
+        b_id_q   <= a_id;
         b_dio_id_q  <= a_dio_id_q;
         b_dio_val_q <= a_dio_val_q;
         b_t16_q  <= a_t16_q;
-        rflx_valid_q  <= (b_fin_q && b_rflx_q) || b_dio_q;
+        rflx_valid_q  <= b_rdone_q || b_dio_q;
         rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
         rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
         if (rst) begin
-            r_q           <= {NT{1'b0}};
-            f_q           <= {NT{1'b0}};
+            rem_q         <= {NT{1'b0}};
             rep_q         <= 1'b0;
             dio_q         <= 1'b0;
             hb_q          <= 1'b0;
+            any_t_q       <= 1'b0;
             empty_q       <= 1'b1;
             a_t_q         <= 1'b0;
             a_dio_q       <= 1'b0;
             a_rep_q       <= 1'b0;
             a_hb_q        <= 1'b0;
-            b_fin_q       <= 1'b0;
             b_dio_q       <= 1'b0;
             b_rep_q       <= 1'b0;
             b_hb_q        <= 1'b0;
+            b_ord_q       <= 1'b0;
+            b_rdone_q     <= 1'b0;
             rflx_valid_q  <= 1'b0;
             rflx_id_q     <= 6'd0;
             rflx_data_q   <= 16'd0;

@@ -2,11 +2,14 @@
 `default_nettype none
 // Synchronous FIFO with AXI-Stream-style ports. DEPTH words (a power of two)
 // sit in a RAM with a registered read, which maps onto one iCE40 block RAM
-// (512 x 8) or any FPGA's; two more words sit in the RAM's read register and
-// a skid register behind it, so it holds DEPTH + 2 words. s_axis_tready and
-// m_axis_tvalid come from flops only, and so does the RAM's read enable:
-// m_axis_tready (often a consumer's long pick logic) reaches only the two
-// output valid flags, not the pointers, the full/empty flags or the RAM.
+// (512 x 8) or any FPGA's; one more word sits in the RAM's read register.
+// With SKID = 1 a skid register behind it holds another (DEPTH + 2 words),
+// so that the RAM's read enable comes from flops only and m_axis_tready
+// (a consumer's long pick logic) reaches only the two output valid flags.
+// With SKID = 0 (a consumer whose tready is a flop: bsd_drain) there is no
+// skid, whose WIDTH flops and output mux a wide word would pay for, and
+// m_axis_tready reaches the read enable. s_axis_tready and m_axis_tvalid
+// come from flops either way.
 //
 // Latency: a word written into an empty FIFO is offered 2 clocks later.
 // The RAM is never read and written at the same address on one clock (a read
@@ -14,7 +17,8 @@
 // read-during-write behaviour does not matter.
 module bsd_fifo #(
     parameter integer WIDTH = 8,
-    parameter integer DEPTH = 16
+    parameter integer DEPTH = 16,
+    parameter integer SKID  = 1
 ) (
     input  wire             clk,
     input  wire             rst,
@@ -46,8 +50,9 @@ module bsd_fifo #(
     reg             out_valid_q;
     reg [WIDTH-1:0] skid_data_q;
     reg             skid_valid_q;
+    wire            skid_valid = SKID != 0 && skid_valid_q;
 
-    assign m_axis_tdata  = skid_valid_q ? skid_data_q : out_data_q;
+    assign m_axis_tdata  = skid_valid ? skid_data_q : out_data_q;
     assign m_axis_tvalid = out_valid_q;
 
     // Full and empty as flops, so that push and pop (the RAM's enables) do
@@ -56,10 +61,11 @@ module bsd_fifo #(
     reg  ram_empty_q;
     reg  ram_full_q;
     wire push      = s_axis_tvalid && !ram_full_q;
-    // A read whenever the skid is free: the read register's word then either
-    // leaves now or moves to the skid.
-    wire pop       = !ram_empty_q && !skid_valid_q;
     wire take      = out_valid_q && m_axis_tready;
+    // With a skid: a read whenever the skid is free (the read register's word
+    // then either leaves now or moves to the skid). Without: whenever the
+    // read register is free or its word leaves now.
+    wire pop       = !ram_empty_q && (SKID != 0 ? !skid_valid_q : (!out_valid_q || m_axis_tready));
     // One word from empty / full: a lone pop empties, a lone push fills.
     wire [AW:0] wr_inc    = wr_q + 1'b1;
     wire [AW:0] rd_inc    = rd_q + 1'b1;
@@ -89,14 +95,14 @@ module bsd_fifo #(
             ram_full_q  <= 1'b0;
             ram_empty_q <= one_left;
         end
-        if (!skid_valid_q) skid_data_q <= out_data_q;  // kept only when skid_valid_q rises
-        if (skid_valid_q) begin
+        if (!skid_valid) skid_data_q <= out_data_q;  // kept only when skid_valid rises
+        if (skid_valid) begin
             if (m_axis_tready) skid_valid_q <= 1'b0;
         end else if (pop && out_valid_q && !m_axis_tready) begin
-            skid_valid_q <= 1'b1;
+            skid_valid_q <= SKID != 0;
         end
         if (pop) out_valid_q <= 1'b1;
-        else if (take && !skid_valid_q) out_valid_q <= 1'b0;
+        else if (take && !skid_valid) out_valid_q <= 1'b0;
         if (rst) begin
             wr_q        <= {(AW + 1){1'b0}};
             rd_q        <= {(AW + 1){1'b0}};

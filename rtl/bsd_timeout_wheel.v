@@ -53,26 +53,9 @@ module bsd_timeout_wheel #(
         end
     endfunction
 
-    // The bits of bit b of a timer number, for the one-hot to number encoder.
-    // Only localparam initializers call it: it runs while elaborating, never in simulation.
-    /* verilator coverage_off */
-    function [NUM_TIMERS-1:0] index_bit(input integer b);
-        integer t;
-        begin
-            for (t = 0; t < NUM_TIMERS; t = t + 1) index_bit[t] = ((t >> b) & 1) != 0;
-        end
-    endfunction
-    /* verilator coverage_on */
-
     wire       start_any = |start_i;
     wire [5:0] start_idx;
-    genvar g;
-    generate
-        for (g = 0; g < 6; g = g + 1) begin : g_enc
-            localparam [NUM_TIMERS-1:0] BITS = index_bit(g);
-            assign start_idx[g] = |(start_i & BITS);
-        end
-    endgenerate
+    bsd_onehot_idx #(.N(NUM_TIMERS)) u_start_idx (.onehot_i(start_i), .idx_o(start_idx));
 
     // -------------------------------------------------------- start times
     (* no_rw_check *)  // a read of the address being written is never used (stale_q)
