@@ -40,7 +40,7 @@
     wire        f_wait = s_axis_tready && !s_axis_tvalid && f_st != F_ADDR;
     wire        f_tmo  = (RX_TIMEOUT_US != 0) && f_wait && tick_i &&
                          f_idle == TIMEOUT_TICKS[TW-1:0] - 1'b1;
-    wire        f_addr_wait = state_q == ST_ADDR || state_q == ST_PEND;
+    wire        f_addr_wait = !len_q && !data_q;
     integer     f_i;
 
     always @(posedge clk) begin
@@ -131,8 +131,8 @@
             // Induction: the design agrees with the reference.
             assert(f_st != 2'd3);
             assert(f_addr_wait == (f_st == F_ADDR));
-            assert((state_q == ST_PEND) == f_pend);
-            assert((state_q == ST_LEN) == (f_st == F_LEN));
+            assert(pend_q == f_pend && !(pend_q && (len_q || data_q)) && !(len_q && data_q));
+            assert(len_q == (f_st == F_LEN) && data_q == (f_st == F_DATA));
             assert(stop_q == (f_pend || f_lastc));
             if (f_pend) begin
                 assert(pkt_kind_q == f_pk && pkt_n_q == f_pn);
@@ -141,13 +141,15 @@
             end
             if (f_st != F_ADDR) begin
                 assert(own_q == f_own && probe_q == (f_addr == ADDR_RESYNC));
-                assert(idle_q == f_idle && f_idle < TIMEOUT_TICKS && f_tk == {1'b0, f_idle});
+                assert(idle_q == IDLE_INIT[TW:0] + {1'b0, f_idle} && f_idle < TIMEOUT_TICKS &&
+                       f_tk == {1'b0, f_idle});
             end
             if (f_st == F_LEN) assert(f_nb == 4'd1);
             if (f_st == F_DATA) begin
                 assert(f_len >= 8'd1 && f_len <= 8'd8 && {4'd0, f_cnt} < f_len);
                 assert(f_nb == f_cnt + 4'd2);
-                assert(cnt_q == f_cnt && pkt_n_q == f_len[3:0]);
+                assert(pos_q == 8'd1 << f_cnt && pkt_n_q == f_len[3:0] && pkt_kind_q == KIND_CMD);
+                assert({1'b0, rem_q} == f_len[3:0] - 4'd1 - f_cnt);
                 assert(last_q == ({4'd0, f_cnt} + 8'd1 == f_len));
                 assert((f_pd & f_cmask) == (f_dv & f_cmask));
             end

@@ -33,20 +33,22 @@ module bsd_parser #(
     // so the drop never comes before RX_TIMEOUT_US whatever the tick phase.
     localparam integer TIMEOUT_TICKS = (RX_TIMEOUT_US * 5 + 7) / 8 + 1;
     localparam integer TW = $clog2(TIMEOUT_TICKS + 1);
-
-    localparam [1:0] ST_ADDR = 2'd0;
-    localparam [1:0] ST_LEN  = 2'd1;
-    localparam [1:0] ST_DATA = 2'd2;
-    localparam [1:0] ST_PEND = 2'd3;  // a packet ended by its length byte waits to be handed over
+    // The idle count starts at IDLE_INIT, so its top bit sets on the
+    // (TIMEOUT_TICKS - 1)-th idle tick: the count's carry is the compare.
+    localparam integer IDLE_INIT = (1 << TW) - (TIMEOUT_TICKS - 1);
 
     // ------------------------------------------------------------ registers
-    reg  [1:0]    state_q;
+    // The state, one flag each (none set: waiting for an address).
+    reg           len_q;    // the next byte is N
+    reg           data_q;   // the next byte is a data byte
+    reg           pend_q;   // a packet ended by its length byte waits to be handed over
     reg           own_q;
     reg           probe_q;
-    reg  [3:0]    cnt_q;
+    reg  [2:0]    rem_q;    // data bytes after the next one
     reg           last_q;   // the next data byte is the packet's last
     reg           stop_q;   // the next byte waits while hold_i (below)
-    reg  [TW-1:0] idle_q;
+    reg  [7:0]    pos_q;    // one-hot: the slot of the next data byte
+    reg  [TW:0]   idle_q;   // IDLE_INIT + idle ticks; [TW]: the next idle tick drops
     // The packet handed to the executor.
     reg           pkt_valid_q;
     reg  [1:0]    pkt_kind_q;
@@ -69,124 +71,97 @@ module bsd_parser #(
     //   always executes a fixed 2 clocks after its last byte;
     // - a packet that ends with its length byte and has a reply (0xAD with
     //   N = 0, this module with N > 8): the length byte is taken and the
-    //   packet waits in ST_PEND, where the next byte waits with it.
+    //   packet waits in pend_q, where the next byte waits with it.
     // s_axis_tready thus comes from flops and hold_i only, never from the
     // offered byte. Every other byte streams at one per clock.
     assign s_axis_tready = !rst && !(hold_i && stop_q);
 
-    wire accept  = s_axis_tvalid && s_axis_tready;
-    wire hand_over = state_q == ST_PEND && !hold_i;
-    wire waiting = s_axis_tready && !s_axis_tvalid && (state_q == ST_LEN || state_q == ST_DATA);
-    wire expired = (RX_TIMEOUT_US != 0) && waiting && tick_i &&
-                   (idle_q == TIMEOUT_TICKS[TW-1:0] - 1'b1);
+    // The next state is written as "stop_q ? .. : ..": hold_i matters only
+    // while stop_q is 1 (stop_q = pend_q || data_q && own_q && last_q), so the
+    // late hold_i selects between terms that do not wait for it. rst resets
+    // every register the terms below steer.
+    wire v         = s_axis_tvalid;
+    wire take      = v && !(hold_i && stop_q);
+    wire addr_acc  = !len_q && !data_q && take;   // the byte is an address
+    wire len_acc   = len_q && v;                  // N (stop_q is 0 in len_q)
+    wire data_acc  = data_q && take;
+    // Idle ticks count while a partial packet could take a byte and none is
+    // offered; the TIMEOUT_TICKS-th drops the packet.
+    wire idle_inc  = !v && tick_i && !(hold_i && stop_q) && (len_q || data_q);
+    wire idle_tmo  = (RX_TIMEOUT_US != 0) && tick_i && idle_q[TW];  // an idle tick now drops
 
     // Byte decode from plain gates, not adders or magnitude comparators.
     wire len_zero = ~|s_axis_tdata;
     wire len_over = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));  // > 8
+    wire to_pend  = (own_q && len_over) || (probe_q && len_zero);
+    wire to_data  = !len_over && !len_zero;
+    // N is 1..8 there, so N = 1 shows in its low 3 bits alone.
+    wire len_one  = s_axis_tdata[2:0] == 3'd1;
 
-    // ---------------------------------------------------- next-state logic
-    reg  [1:0] state_d;
-    reg        own_d, probe_d, last_d;
-    reg  [3:0] cnt_d;
-    reg        pkt_valid_d;
-    reg  [1:0] pkt_kind_d;
-
-    always @* begin
-        state_d     = state_q;
-        own_d       = own_q;
-        probe_d     = probe_q;
-        cnt_d       = cnt_q;
-        last_d      = last_q;
-        pkt_valid_d = hand_over;
-        pkt_kind_d  = pkt_kind_q;
-        if (hand_over) state_d = ST_ADDR;
-        if (expired) begin
-            state_d = ST_ADDR;
-        end else if (accept) begin
-            case (state_q)
-                ST_ADDR, ST_PEND: begin
-                    own_d   = s_axis_tdata == ADDR_OWN;
-                    probe_d = s_axis_tdata == ADDR_RESYNC;
-                    state_d = ST_LEN;
-                end
-                ST_LEN: begin
-                    cnt_d  = 4'd0;
-                    last_d = s_axis_tdata == 8'd1;
-                    if (own_q && len_over) begin
-                        pkt_kind_d = KIND_SERIAL;
-                        state_d    = ST_PEND;
-                    end else if (probe_q && len_zero) begin
-                        pkt_kind_d = KIND_PROBE;
-                        state_d    = ST_PEND;
-                    end else if (len_over || len_zero) begin
-                        state_d = ST_ADDR;
-                    end else begin
-                        state_d = ST_DATA;
-                    end
-                end
-                default: begin
-                    cnt_d  = cnt_q + 4'd1;
-                    last_d = cnt_q + 4'd2 == pkt_n_q;
-                    if (last_q) begin
-                        pkt_valid_d = own_q;
-                        pkt_kind_d  = KIND_CMD;
-                        state_d     = ST_ADDR;
-                    end
-                end
-            endcase
-        end
-    end
+    wire len_d  = stop_q ? pend_q && v && !hold_i
+                         : (!len_q && !data_q && v) || (len_q && !v && !idle_tmo);
+    wire data_d = stop_q ? data_q && (hold_i || (!v && !idle_tmo))
+                         : (len_q && v && to_data) || (data_q && (v ? !last_q : !idle_tmo));
+    wire pend_d = stop_q ? pend_q && hold_i : len_q && v && to_pend;
+    // A packet to this module with its next byte its last, or a packet pending.
+    wire stop_d = stop_q ? hold_i || (data_q && !v && !idle_tmo)
+                         : v && ((len_q && ((to_data && own_q && len_one) || to_pend)) ||
+                                 (data_q && own_q && rem_q == 3'd1));
+    wire pkt_valid_d = stop_q && !hold_i && (pend_q || (data_q && v));
 
     always @(posedge clk) begin
-        state_q     <= state_d;
-        own_q       <= own_d;
-        probe_q     <= probe_d;
-        cnt_q       <= cnt_d;
-        last_q      <= last_d;
-        stop_q      <= (state_d == ST_DATA && own_d && last_d) || state_d == ST_PEND;
+        len_q       <= len_d;
+        data_q      <= data_d;
+        pend_q      <= pend_d;
+        stop_q      <= stop_d;
         pkt_valid_q <= pkt_valid_d;
-        pkt_kind_q  <= pkt_kind_d;
-        if (accept) idle_q <= {TW{1'b0}};
-        else if (waiting && tick_i) idle_q <= idle_q + 1'b1;
-
-        // The packet's N and first data bytes take the offered byte whether or
-        // not it is accepted, so s_axis_tready stays off these enables: a held
-        // byte stays offered unchanged (AXI-Stream), and the executor reads
-        // them only on pkt_valid_q's clock, when the parser waits for an
-        // address byte and so writes none of them.
-        if (s_axis_tvalid && state_q == ST_LEN) pkt_n_q <= s_axis_tdata[3:0];
-        if (s_axis_tvalid && state_q == ST_DATA) begin
-            case (cnt_q)
-                4'd0:    pkt_d0_q <= s_axis_tdata;
-                4'd1:    pkt_d1_q <= s_axis_tdata;
-                4'd2:    pkt_d2_q <= s_axis_tdata;
-                4'd3:    pkt_tail_q[39:32] <= s_axis_tdata;
-                4'd4:    pkt_tail_q[31:24] <= s_axis_tdata;
-                4'd5:    pkt_tail_q[23:16] <= s_axis_tdata;
-                4'd6:    pkt_tail_q[15:8]  <= s_axis_tdata;
-                4'd7:    pkt_tail_q[7:0]   <= s_axis_tdata;
-                // cnt_q is 0..7 in ST_DATA (N > 8 never gets there): never runs.
-                /* verilator coverage_off */
-                default: ;
-                /* verilator coverage_on */
-            endcase
+        if (addr_acc) begin
+            own_q   <= s_axis_tdata == ADDR_OWN;
+            probe_q <= s_axis_tdata == ADDR_RESYNC;
         end
+        if (len_acc) begin
+            rem_q  <= s_axis_tdata[2:0] - 3'd1;
+            last_q <= len_one;
+            pos_q  <= 8'd1;
+            // The kind of the packet this N makes (a command if it has data).
+            pkt_kind_q <= (own_q && len_over) ? KIND_SERIAL : (probe_q && len_zero) ? KIND_PROBE : KIND_CMD;
+        end
+        if (data_acc) begin
+            rem_q  <= rem_q - 3'd1;
+            last_q <= rem_q == 3'd1;
+            pos_q  <= {pos_q[6:0], 1'b0};
+        end
+        if (take) idle_q <= IDLE_INIT[TW:0];
+        else if (idle_inc) idle_q <= idle_q + 1'b1;
+
+        // N and the data bytes take the offered byte whether or not it is
+        // accepted (no tvalid or tready in these enables): the slot of the next
+        // data byte follows the offered byte until it is taken, so it ends
+        // with the byte taken, and the executor reads them only on
+        // pkt_valid_q's clock, after the last one. A slot past N may take
+        // later bytes; the executor uses only the first N. No reset: from
+        // reset to the first N every slot takes the offered byte.
+        if (len_q) pkt_n_q <= s_axis_tdata[3:0];
+        if (pos_q[0]) pkt_d0_q <= s_axis_tdata;
+        if (pos_q[1]) pkt_d1_q <= s_axis_tdata;
+        if (pos_q[2]) pkt_d2_q <= s_axis_tdata;
+        if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;
+        if (pos_q[4]) pkt_tail_q[31:24] <= s_axis_tdata;
+        if (pos_q[5]) pkt_tail_q[23:16] <= s_axis_tdata;
+        if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
+        if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
 
         if (rst) begin
-            state_q     <= ST_ADDR;
+            len_q       <= 1'b0;
+            data_q      <= 1'b0;
+            pend_q      <= 1'b0;
             own_q       <= 1'b0;
             probe_q     <= 1'b0;
-            cnt_q       <= 4'd0;
-            last_q      <= 1'b0;
             stop_q      <= 1'b0;
-            idle_q      <= {TW{1'b0}};
+            pos_q       <= 8'hFF;  // every slot follows the stream until the first N
+            idle_q      <= IDLE_INIT[TW:0];
             pkt_valid_q <= 1'b0;
             pkt_kind_q  <= KIND_CMD;
-            pkt_n_q     <= 4'd0;
-            pkt_d0_q    <= 8'd0;
-            pkt_d1_q    <= 8'd0;
-            pkt_d2_q    <= 8'd0;
-            pkt_tail_q  <= 40'd0;
         end
     end
 
