@@ -10,10 +10,10 @@
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
 // clock after each packet (s2_valid_o, exactly then, never two clocks in a row) the
 // state-change strobes (cfg_we_o, out_we_o, rearm_o, timer_start_o, hb_answer_o) are the
-// reference's, with their pin, data and delivery bits; the reply (reply_o, N, the bytes up to
+// reference's, with their pin (pin_sel_o, one-hot), data and delivery bits; the reply (reply_o, N, the bytes up to
 // N, the echo's tail) and dio_rflx_o (with the pin's device ID and level) are the
 // reference's; on every other clock no strobe, no reply, no RFLX value: one decision per
-// packet, each strobe one clock long. rearm_o and timer_start_o are one-hot or zero.
+// packet, each strobe one clock long. pin_sel_o, rearm_o and timer_start_o are one-hot or zero.
     reg                  f_past_valid = 1'b0;
     reg                  f_s2, f_s2_q, f_p2;
     reg [1:0]            f_kind;
@@ -134,19 +134,20 @@
         if (f_past_valid) begin
             assert(s2_valid_o == f_s2);
             if (s2_valid_o) assert(!f_s2_q);
-            assert((rearm_o & (rearm_o - 1'b1)) == {NUM_PINS{1'b0}});
             assert((timer_start_o & (timer_start_o - 1'b1)) == {NUM_PINS{1'b0}});
+            assert((pin_sel_o & (pin_sel_o - 1'b1)) == {NUM_PINS{1'b0}});
+            assert((rearm_o & (rearm_o - 1'b1)) == {NUM_PINS{1'b0}});
             if (!f_s2) begin
                 assert(!cfg_we_o && !out_we_o && !hb_answer_o && !reply_o && !dio_rflx_o && !soft_reset_o);
                 assert(rearm_o == {NUM_PINS{1'b0}} && timer_start_o == {NUM_PINS{1'b0}});
             end else begin
                 assert(cfg_we_o == f_w_cfg);
                 assert(out_we_o == f_w_out);
-                if (cfg_we_o || out_we_o) assert(pin_idx_o == f_d1[5:0]);
                 if (cfg_we_o) assert(cfg_wdata_o == f_d2[4:0]);
                 if (out_we_o) assert(out_wdata_o == (f_d2 != 8'd0));
                 for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
                     assert(rearm_o[f_i] == ((f_w_cfg || f_w_rst) && f_d1 == f_i));
+                    if (cfg_we_o || out_we_o) assert(pin_sel_o[f_i] == (f_d1 == f_i));
                     assert(timer_start_o[f_i] == (f_w_time && f_dp == f_i));
                 end
                 if (timer_start_o != {NUM_PINS{1'b0}})

@@ -76,7 +76,7 @@ MUTANTS = [
      "cfg_q[g*NUM_PINS +: NUM_PINS];"),
     ("bsd_cfg_regs", "prove", "bsd_cfg_regs.v",
      "a configuration write lands in every free pin, not only the addressed one",
-     "({NUM_PINS{cfg_wdata_i[k]}} & sel);", "({NUM_PINS{cfg_wdata_i[k]}} & {NUM_PINS{1'b1}});"),
+     "if (sel_i[p]) begin", "if (1'b1) begin"),
     ("bsd_heartbeat", "prove", "bsd_heartbeat.v", "a heartbeat due while the previous one is unsent keeps the link up",
      "if (!answered || req_q) link_up_q <= 1'b0;", "if (!answered) link_up_q <= 1'b0;", "UNKNOWN"),
     ("bsd_heartbeat", "bmc", "bsd_heartbeat.v", "the same, against the BMC from any state that meets the invariants",
@@ -89,8 +89,7 @@ MUTANTS = [
      "wire rep_wait_d = rep_req_o && !rep_done_i;", "wire rep_wait_d = rep_wait_q && !rep_done_i;"),
     ("bsd_exec", "prove", "bsd_exec.v",
      "a DIG_CFG write to a fixed pin is strobed (and re-arms it) instead of configErr",
-     "wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}} & ~FIXED_MASK;",
-     "wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}};"),
+     "wire cfg_w   = c_cfg && pin_ok && !sel_fixed;", "wire cfg_w   = c_cfg && pin_ok;"),
 ]
 
 

@@ -174,8 +174,22 @@ module brainstem_dio #(
         .clk(clk), .d_i(pin_i), .q_o(level)
     );
 
-    // Arms every latch two clocks after reset, once the synchronizer holds
-    // real pad levels (a fixed ENA pin is armed from power-up).
+    // Arms the latches of fixed ENA pins two clocks after reset, once the
+    // synchronizer holds real pad levels: they are armed from power-up. A free
+    // pin comes out of reset with ENA = 0, and whatever sets its ENA re-arms
+    // it, so arming it here could never show; leaving it out leaves its latch
+    // a gate less.
+    // Only a localparam initializer calls it: it runs while elaborating, never in simulation.
+    /* verilator coverage_off */
+    function [NUM_PINS-1:0] fixed_ena(input integer unused);
+        integer q;
+        begin
+            for (q = 0; q < NUM_PINS; q = q + 1)
+                fixed_ena[q] = FIXED_MASK[q] && FIXED_CFG[8*q + 1];
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [NUM_PINS-1:0] FIXED_ENA = fixed_ena(0);
     reg [1:0] init_q;
     always @(posedge clk) begin
         init_q <= {init_q[0], 1'b0};
@@ -216,7 +230,7 @@ module brainstem_dio #(
     wire [NUM_PINS-1:0]   out_latch;
     wire [NUM_PINS-1:0]   timer_busy;
     wire                  cfg_we, out_we;
-    wire [5:0]            wr_pin_idx;
+    wire [NUM_PINS-1:0]   wr_pin_sel;
     wire [4:0]            cfg_wdata;
     wire                  out_wdata;
     wire [NUM_PINS-1:0]   rearm;
@@ -253,7 +267,7 @@ module brainstem_dio #(
         .timer_busy_i    (timer_busy),
         .cfg_we_o        (cfg_we),
         .out_we_o        (out_we),
-        .pin_idx_o       (wr_pin_idx),
+        .pin_sel_o       (wr_pin_sel),
         .cfg_wdata_o     (cfg_wdata),
         .out_wdata_o     (out_wdata),
         .rearm_o         (rearm),
@@ -316,7 +330,7 @@ module brainstem_dio #(
         .rst         (core_rst),
         .cfg_we_i    (cfg_we),
         .out_we_i    (out_we),
-        .pin_idx_i   (wr_pin_idx),
+        .sel_i       (wr_pin_sel),
         .cfg_wdata_i (cfg_wdata),
         .out_wdata_i (out_wdata),
         .cfg_o       (cfg),
@@ -334,7 +348,7 @@ module brainstem_dio #(
     bsd_trans_latch #(.WIDTH(NUM_PINS)) u_latch (
         .clk      (clk),
         .rst      (core_rst),
-        .arm_i    (rearm | {NUM_PINS{init_arm}}),
+        .arm_i    (rearm | (FIXED_ENA & {NUM_PINS{init_arm}})),
         .ena_i    (cfg[1*NUM_PINS +: NUM_PINS]),
         .trg_i    (cfg[2*NUM_PINS +: NUM_PINS]),
         .input_i  (cfg[0*NUM_PINS +: NUM_PINS]),

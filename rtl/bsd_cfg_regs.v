@@ -5,6 +5,9 @@
 // cfg_o is field-major: DIGCFG bit k of pin p is cfg_o[k*NUM_PINS + p], so
 // that every consumer takes a field of all pins as one slice (a simulation
 // model built by Verilator then works on words, not on every pin's bits).
+// The pins are addressed by a one-hot sel_i, decoded once by bsd_exec: each
+// pin's flops then take a shared data bus under an enable of their own (one
+// gate a pin, no data mux), and the per-pin loop runs only on a write.
 module bsd_cfg_regs #(
     parameter integer               NUM_PINS   = 5,
     parameter [NUM_PINS-1:0]        FIXED_MASK = 0,
@@ -14,7 +17,7 @@ module bsd_cfg_regs #(
     input  wire                  rst,
     input  wire                  cfg_we_i,
     input  wire                  out_we_i,
-    input  wire [5:0]            pin_idx_i,    // the pin both writes address
+    input  wire [NUM_PINS-1:0]   sel_i,        // the pins both writes address (one-hot or none)
     input  wire [4:0]            cfg_wdata_i,
     input  wire                  out_wdata_i,
     output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0, field-major
@@ -36,26 +39,30 @@ module bsd_cfg_regs #(
     endfunction
     /* verilator coverage_on */
     localparam [5*NUM_PINS-1:0] FIXED_F = fixed_fields(0);
-    localparam [NUM_PINS-1:0]   ONE     = 1;
-
-    // The addressed pin as a one-hot; none for a pin beyond NUM_PINS - 1.
-    wire [NUM_PINS-1:0] sel = ONE << pin_idx_i;
 
     reg [5*NUM_PINS-1:0] cfg_q;   // field-major; a fixed pin's bits are never read
     reg [NUM_PINS-1:0]   out_q;
     // The output enable is IODIR inverted, kept in flops of its own so that
     // the pad's enable needs no gate per pin.
     reg [NUM_PINS-1:0]   oe_q;
-    integer k;
+    integer k, p;
 
     always @(posedge clk) begin
+        // Written as per-pin enables over a shared data bus, so that synthesis
+        // builds clock-enabled flops rather than a data mux per bit.
         if (cfg_we_i) begin
-            for (k = 0; k < 5; k = k + 1)
-                cfg_q[k*NUM_PINS +: NUM_PINS] <= (cfg_q[k*NUM_PINS +: NUM_PINS] & ~sel) |
-                                                 ({NUM_PINS{cfg_wdata_i[k]}} & sel);
-            oe_q <= (oe_q & ~sel) | ({NUM_PINS{!cfg_wdata_i[0]}} & sel);
+            for (p = 0; p < NUM_PINS; p = p + 1) begin
+                if (sel_i[p]) begin
+                    for (k = 0; k < 5; k = k + 1)
+                        cfg_q[k*NUM_PINS + p] <= cfg_wdata_i[k];
+                    oe_q[p] <= !cfg_wdata_i[0];
+                end
+            end
         end
-        if (out_we_i) out_q <= (out_q & ~sel) | ({NUM_PINS{out_wdata_i}} & sel);
+        if (out_we_i) begin
+            for (p = 0; p < NUM_PINS; p = p + 1)
+                if (sel_i[p]) out_q[p] <= out_wdata_i;
+        end
         if (rst) begin
             for (k = 0; k < 5; k = k + 1)
                 cfg_q[k*NUM_PINS +: NUM_PINS] <= {NUM_PINS{CFG_RESET[k]}};

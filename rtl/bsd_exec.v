@@ -38,7 +38,7 @@ module bsd_exec #(
     // configuration register file
     output wire                  cfg_we_o,
     output wire                  out_we_o,
-    output wire [5:0]            pin_idx_o,     // the pin both writes address
+    output wire [NUM_PINS-1:0]   pin_sel_o,     // the pin both writes address, one-hot
     output wire [4:0]            cfg_wdata_o,
     output wire                  out_wdata_o,
     output wire [NUM_PINS-1:0]   rearm_o,
@@ -98,7 +98,6 @@ module bsd_exec #(
     // field of all pins is one slice, picked with the one-hot by an AND-OR.
     localparam [NUM_PINS-1:0] ONE = 1;
     wire [NUM_PINS-1:0] sel      = ONE << dev_pin;
-    wire [NUM_PINS-1:0] is_input = cfg_i[IODIR*NUM_PINS +: NUM_PINS];
 
     // The addressed pin's state; zero for a pin beyond the last.
     wire [4:0] look_cfg;
@@ -109,16 +108,14 @@ module bsd_exec #(
         end
     endgenerate
     wire look_level = |(level_i & sel);
+    wire look_busy  = |(timer_busy_i & sel & TIMER_MASK);
+    wire look_in    = look_cfg[IODIR];
     wire sel_fixed = |(sel & FIXED_MASK);
     wire sel_timer = |(sel & TIMER_MASK);
 
-    // The state changes, worked out per pin (each pin's own bits and its own
-    // select), so they do not wait for the lookup above.
-    wire                pin_byte = pkt_d1_i[7:6] == 2'b00;
-    wire [NUM_PINS-1:0] do_cfg   = sel & {NUM_PINS{c_cfg && pin_byte}} & ~FIXED_MASK;
-    wire [NUM_PINS-1:0] do_out   = sel & {NUM_PINS{c_out && pin_byte}} & ~is_input;
-    wire [NUM_PINS-1:0] do_rst   = sel & {NUM_PINS{c_rst && pin_byte}};
-    wire [NUM_PINS-1:0] do_start = sel & {NUM_PINS{c_time}} & TIMER_MASK & is_input & ~timer_busy_i;
+    // The state changes are decided once, from the lookup, not per pin: the
+    // pins see them as the registered one-hot and a strobe each (a gate a pin
+    // for all of them, rather than a decision a pin for each).
 
     // The reply, decided as far as the packet alone tells; stage 2 adds only
     // what the pin's IODIR and its timer's start decide, in a gate or two
@@ -126,6 +123,8 @@ module bsd_exec #(
     // sent, so they are left as they fall.
     wire cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
     wire rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
+    wire out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
+    wire start   = c_time && sel_timer && look_in && !look_busy;  // a PTIME_RD that starts
     wire idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
                    (is_cmd && d0_io && n2 && !dev_ok) ||
                    (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
@@ -151,12 +150,14 @@ module bsd_exec #(
     reg                long_q;        // longer than the command's longest form
     reg                cfg_rd_q, dbg_q;
     reg                reset_q;       // cmdRESET
-    reg [7:0]          s2_d1_q, s2_d2_q;
+    reg [2:0]          s2_d1_q;       // d1's bits 7 (HOST), 6 (RFLX) and 0
+    reg [7:0]          s2_d2_q;
     reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
     reg [4:0]          pin_cfg_q;
     reg                pin_level_q, pin_fixed_q;
     reg                cfg_we_q, out_we_q, hb_answer_q;
-    reg [NUM_PINS-1:0] rearm_q, start_q;
+    reg [NUM_PINS-1:0] rearm_q;
+    reg [NUM_PINS-1:0] sel_q, start_q;
 
     always @(posedge clk) begin
         s2_valid_q  <= pkt_valid_i;
@@ -172,23 +173,27 @@ module bsd_exec #(
         io_w_q      <= c_out && pin_ok;
         io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
         pt_q        <= c_time && sel_timer;
-        started_q   <= |do_start;
+        started_q   <= start;
         long_q      <= long;
         cfg_rd_q    <= cfg_rd;
         dbg_q       <= dbg;
         reset_q     <= is_cmd && d0_rset;
-        s2_d1_q     <= pkt_d1_i;
+        s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
         s2_d2_q     <= pkt_d2_i;
         dev_id_q    <= PIN_ID_W + dev_pin;
         pin_cfg_q   <= look_cfg;
         pin_level_q <= look_level;
         pin_fixed_q <= sel_fixed;
-        cfg_we_q    <= |do_cfg;
-        out_we_q    <= |do_out;
+        cfg_we_q    <= cfg_w;
+        out_we_q    <= out_w;
         hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
                        (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
-        rearm_q     <= do_cfg | do_rst;
-        start_q     <= do_start;
+        // (a vector of its own, cleared by a condition all pins share: synthesis
+        // gives it the flops' synchronous reset, no gate a pin)
+        rearm_q     <= sel;
+        if (!(cfg_w || rst_w)) rearm_q <= {NUM_PINS{1'b0}};
+        sel_q       <= sel;
+        start_q     <= sel & TIMER_MASK & {NUM_PINS{start}};
         if (rst) begin
             s2_valid_q  <= 1'b0;
             known_q     <= 1'b0;
@@ -206,8 +211,8 @@ module bsd_exec #(
     end
 
     // ---------------------------------------------------- stage 2: execute
-    wire       dev_host = s2_d1_q[7];
-    wire       dev_rflx = s2_d1_q[6];
+    wire       dev_host = s2_d1_q[2];
+    wire       dev_rflx = s2_d1_q[1];
     wire       in       = pin_cfg_q[IODIR];
 
     assign cfg_we_o      = cfg_we_q;
@@ -215,7 +220,7 @@ module bsd_exec #(
     assign rearm_o       = rearm_q;
     assign timer_start_o = start_q;
     assign hb_answer_o   = hb_answer_q;
-    assign pin_idx_o     = s2_d1_q[5:0];
+    assign pin_sel_o     = sel_q;
     assign cfg_wdata_o   = s2_d2_q[4:0];
     assign out_wdata_o   = s2_d2_q != 8'd0;
     assign timer_host_o  = dev_host;

@@ -57,12 +57,12 @@ class CfgModel:
         self.out = [0] * self.n
 
     def step(self, v: dict) -> None:
-        p = v["pin_idx_i"]
-        if p < self.n:
-            if v["cfg_we_i"] and not self.fixed(p):
-                self.cfg[p] = v["cfg_wdata_i"] & DIGCFG_STORED
-            if v["out_we_i"]:
-                self.out[p] = v["out_wdata_i"]
+        for p in range(self.n):
+            if (v["sel_i"] >> p) & 1:
+                if v["cfg_we_i"] and not self.fixed(p):
+                    self.cfg[p] = v["cfg_wdata_i"] & DIGCFG_STORED
+                if v["out_we_i"]:
+                    self.out[p] = v["out_wdata_i"]
 
     def outputs(self) -> dict[str, int]:
         # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0.
@@ -84,7 +84,7 @@ def unpack_cfg(word: int, n: int, p: int) -> int:
 
 
 class CfgTB(ClockedTB):
-    INPUTS = dict(cfg_we_i=0, out_we_i=0, pin_idx_i=0, cfg_wdata_i=0, out_wdata_i=0)
+    INPUTS = dict(cfg_we_i=0, out_we_i=0, sel_i=0, cfg_wdata_i=0, out_wdata_i=0)
     PULSES = ("cfg_we_i", "out_we_i")
     OUTPUTS = ("cfg_o", "out_o", "oe_o")
 
@@ -93,6 +93,14 @@ class CfgTB(ClockedTB):
         p = hdl_params()
         self.n = int(p["NUM_PINS"])
         self.model = CfgModel(self.n, vint(p.get("FIXED_MASK", 0)), vint(p.get("FIXED_CFG", 0)))
+
+    def drive(self, rst: int = 0, **inputs: int) -> dict[str, int]:
+        # pin_idx_i=p stands for the one-hot bsd_exec sends: sel_i = 1 << p, none beyond the
+        # last pin.
+        if "pin_idx_i" in inputs:
+            p = inputs.pop("pin_idx_i")
+            inputs["sel_i"] = (1 << p) & ((1 << self.n) - 1)
+        return super().drive(rst, **inputs)
 
     def check(self, inputs, outputs, rst) -> None:
         if rst:
@@ -176,15 +184,17 @@ async def test_writes_one_pin(dut) -> None:
 
 @cocotb.test()
 async def test_random_vs_model(dut) -> None:
-    """Random writes (any index 0..63), enables and resets, compared every clock."""
+    """Random writes (any index 0..63, and now and then any set of pins at once),
+    enables and resets, compared every clock."""
     tb = CfgTB(dut)
     rng = tb.rng
     await tb.reset()
     for _ in range(3000):
         idx = rng.randrange(tb.n + 2) if rng.random() < 0.9 else rng.randrange(64)
+        where = dict(pin_idx_i=idx) if rng.random() < 0.9 else dict(sel_i=rng.getrandbits(tb.n))
         await tb.step(rst=int(rng.random() < 0.003), cfg_we_i=int(rng.random() < 0.4),
-                      out_we_i=int(rng.random() < 0.4), pin_idx_i=idx,
-                      cfg_wdata_i=rng.randrange(32), out_wdata_i=rng.randrange(2))
+                      out_we_i=int(rng.random() < 0.4), cfg_wdata_i=rng.randrange(32),
+                      out_wdata_i=rng.randrange(2), **where)
 
 
 @pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="icarus"))

@@ -11,7 +11,7 @@ counts as it is on the clock of pkt_valid_i.
 
 ExecModel decodes each packet from those rules into the outputs expected right after the
 clock that took it (every strobe 0 and no reply on all other clocks); the outputs that only
-mean something with their strobe (pin_idx_o, write data, the timer's delivery bits, the
+mean something with their strobe (pin_sel_o, write data, the timer's delivery bits, the
 reply's bytes past reply_n_o, the DIG_IO RFLX id/value) are compared only then. Compared
 after every clock.
 
@@ -117,13 +117,14 @@ class ExecModel:
             elif bit(self.fixed_mask, d1):
                 msg(MSG_CONFIG_ERR)
             else:
-                e.update(cfg_we_o=1, pin_idx_o=d1, cfg_wdata_o=d2 & DIGCFG_STORED, rearm_o=1 << d1)
+                e.update(cfg_we_o=1, pin_sel_o=1 << d1, cfg_wdata_o=d2 & DIGCFG_STORED,
+                         rearm_o=1 << d1)
                 too_long(3)
         elif d0 == CMD_DIG_IO and n >= 3:
             if d1 >= self.n or is_input(d1):
                 msg(MSG_CMD_INDEX_ERR)
             else:
-                e.update(out_we_o=1, pin_idx_o=d1, out_wdata_o=int(d2 != 0))
+                e.update(out_we_o=1, pin_sel_o=1 << d1, out_wdata_o=int(d2 != 0))
                 too_long(3)
         elif d0 == CMD_DIG_IO:
             pin = d1 & DEVCODE_PIN
@@ -158,7 +159,7 @@ class ExecTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_d0_i=0, pkt_d1_i=0,
                   pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
-    OUTPUTS = ALWAYS + ("pin_idx_o", "cfg_wdata_o", "out_wdata_o", "timer_host_o",
+    OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
                         "reply_tail_o", "dio_id_o", "dio_val_o")
 
@@ -235,7 +236,7 @@ async def test_dig_cfg(dut) -> None:
             assert tb.reply(out) == message(MSG_CONFIG_ERR) and out["cfg_we_o"] == 0
             assert out["rearm_o"] == 0
         else:
-            assert (out["cfg_we_o"], out["pin_idx_o"], out["cfg_wdata_o"]) == (1, p, 0x0A)
+            assert (out["cfg_we_o"], out["pin_sel_o"], out["cfg_wdata_o"]) == (1, 1 << p, 0x0A)
             assert out["rearm_o"] == 1 << p and out["reply_o"] == 0
         out = await tb.cmd(CMD_DIG_CFG, p, **tb.state(cfg))
         assert tb.reply(out) == [CMD_DIG_CFG, p, (DIGCFG_FIXED if fixed else 0) | cfg[p]]
@@ -258,7 +259,7 @@ async def test_dig_io(dut) -> None:
     for p in range(tb.n):
         for val, want in ((0, 0), (1, 1), (0x80, 1)):
             out = await tb.cmd(CMD_DIG_IO, p, val, **tb.state(outputs))
-            assert (out["out_we_o"], out["pin_idx_o"], out["out_wdata_o"]) == (1, p, want)
+            assert (out["out_we_o"], out["pin_sel_o"], out["out_wdata_o"]) == (1, 1 << p, want)
             assert out["reply_o"] == 0
         out = await tb.cmd(CMD_DIG_IO, p, 1, **tb.state(inputs))
         assert tb.reply(out) == message(MSG_CMD_INDEX_ERR) and out["out_we_o"] == 0
