@@ -115,16 +115,17 @@ module bsd_drain #(
     wire [NT-1:0]       low    = rem & (~rem + {{(NT-1){1'b0}}, 1'b1});
     wire [5:0]          k;
     bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
-    genvar g;
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
     // not above its own): the timers that do are worked out as the entry is
     // taken (before_q), so the pick compares no IDs.
     reg  [NT-1:0]       before_q;
-    wire [NT-1:0]       before_d;
     // ID >= a constant, for every timer's ID, from three 8-way decodes of the
-    // value's ID (a 3-input gate per timer, no comparator per timer).
+    // value's ID (a 3-input gate per timer, no comparator per timer). The
+    // gates are evaluated only as an entry with a DIG_IO value is taken (a
+    // statement per timer in simulation, not on every clock).
     wire [5:0]          dio_id_in = ev_data_i[22:17];
     wire [7:0]          hi_gt, hi_eq, lo_ge;
+    genvar g;
     generate
         for (g = 0; g < 8; g = g + 1) begin : g_dec
             /* verilator lint_off UNSIGNED */
@@ -132,10 +133,6 @@ module bsd_drain #(
             assign hi_eq[g] = dio_id_in[5:3] == g;
             assign lo_ge[g] = dio_id_in[2:0] >= g;
             /* verilator lint_on UNSIGNED */
-        end
-        for (g = 0; g < NT; g = g + 1) begin : g_before
-            localparam [5:0] ID = IDS[6*g +: 6];
-            assign before_d[g] = hi_gt[ID[5:3]] | (hi_eq[ID[5:3]] & lo_ge[ID[2:0]]);
         end
     endgenerate
     wire                dio_first = dio_q && !(|(rem & before_q));
@@ -163,6 +160,16 @@ module bsd_drain #(
     wire                ev_items  = ev_any_t || |ev_data_i[25:23];
     assign ev_ready_o = next;
     assign empty_o    = empty_q;
+
+    integer             bt;
+    always @(posedge clk) begin
+        // Read only while dio_q is set, which is loaded with it (and ev_valid_i).
+        if (next && ev_data_i[24]) begin
+            for (bt = 0; bt < NT; bt = bt + 1)
+                before_q[bt] <= hi_gt[IDS[6*bt+3 +: 3]] |
+                                (hi_eq[IDS[6*bt+3 +: 3]] & lo_ge[IDS[6*bt +: 3]]);
+        end
+    end
 
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
@@ -221,7 +228,6 @@ module bsd_drain #(
             dio_q     <= ev_valid_i && ev_data_i[24];
             hb_q      <= ev_valid_i && ev_data_i[23];
             dio_id_q  <= ev_data_i[22:17];
-            before_q  <= before_d;
             dio_val_q <= ev_data_i[16];
             t_q       <= ev_data_i[15:0];
         end else begin

@@ -41,15 +41,17 @@ module bsd_timeout_wheel #(
         end
     endfunction
 
-    // A 6-bit timer number to a one-hot vector through two 8-way decoders
-    // (a gate per timer), not a 64-bit shifter.
-    function [NUM_TIMERS-1:0] one_hot(input [5:0] idx);
-        integer t;
-        reg [7:0] hi, lo;
+    // A 6-bit timer number (en: or none) to a one-hot vector: the block of
+    // 8 timers (a byte shifted by 8 x idx[5:3]) AND the timer in each block,
+    // so synthesis still sees two 8-way decoders and a gate per timer, and
+    // simulation a few word operations (not a statement per timer).
+    function [NUM_TIMERS-1:0] one_hot(input en, input [5:0] idx);
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [63:0] full;  // NUM_TIMERS < 64: the upper timers do not exist
+        /* verilator lint_on UNUSEDSIGNAL */
         begin
-            hi = 8'd1 << idx[5:3];
-            lo = 8'd1 << idx[2:0];
-            for (t = 0; t < NUM_TIMERS; t = t + 1) one_hot[t] = hi[t / 8] & lo[t % 8];
+            full = ({64{en}} & (64'hFF << {idx[5:3], 3'b000})) & (64'h0101_0101_0101_0101 << idx[2:0]);
+            one_hot = full[NUM_TIMERS-1:0];
         end
     endfunction
 
@@ -87,7 +89,7 @@ module bsd_timeout_wheel #(
     // Running and not yet inserted: one vector, one mux.
     wire [63:0] want64   = pad(run_i & ~ins_q);
     wire        cand     = !stale3_q && win3_q && want64[scan3_q];
-    wire [NUM_TIMERS-1:0] scan3_bit = one_hot(scan3_q);
+    wire [NUM_TIMERS-1:0] scan3_bit = one_hot(1'b1, scan3_q);
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
