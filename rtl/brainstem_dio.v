@@ -578,11 +578,16 @@ module brainstem_dio #(
 `ifndef SYNTHESIS
 `ifndef FORMAL  // Yosys takes no $fatal in an always block
     // The sizing argument above, checked in every simulation: no entry or item is refused.
+    // (nested, the rare condition first, so that a simulator tests one bit a clock)
     always @(posedge clk) begin
-        if (!rst && ev_new && !ev_skip && !evq_ready)
-            $fatal(1, "brainstem_dio: the event queue is full (an entry would be lost)");
-        if (!rst && order_valid && !out_skip && !outq_ready)
-            $fatal(1, "brainstem_dio: the output queue is full (a packet would be lost)");
+        if (!evq_ready) begin
+            if (!rst && ev_new && !ev_skip)
+                $fatal(1, "brainstem_dio: the event queue is full (an entry would be lost)");
+        end
+        if (!outq_ready) begin
+            if (!rst && order_valid && !out_skip)
+                $fatal(1, "brainstem_dio: the output queue is full (a packet would be lost)");
+        end
     end
 `endif
 `endif
