@@ -161,13 +161,12 @@ module bsd_exec #(
 
     // Stage 1's decode is written only on a packet's clock, so that a
     // simulator evaluates it only then: the data flops (reply bytes, d1/d2,
-    // the lookup) hold between packets (enabled flops, SB_DFFE), the flags
-    // and strobes are cleared on a clock without a packet, as before.
+    // the lookup) hold between packets (enabled flops, SB_DFFE; they load in
+    // reset too, so no flop is left unknown); the flags and strobes are
+    // cleared on a clock without a packet and in reset (one synchronous
+    // clear that every flag shares).
     always @(posedge clk) begin
-        s2_valid_q  <= pkt_valid_i;
-        if (pkt_valid_i || rst) begin  // (loads in reset too: no flop left unknown)
-            known_q     <= probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
-                           (long && (cfg_w || rst_w));
+        if (pkt_valid_i || rst) begin
             b0_q        <= probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
             b1_q        <= (cfg_rd || dbg) ? pkt_d1_i :
                            ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
@@ -175,32 +174,17 @@ module bsd_exec #(
                            ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
                            ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
             rn_q        <= probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? pkt_n_i : MSG_N[3:0];
-            io_w_q      <= c_out && pin_ok;
-            io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
-            pt_q        <= c_time && sel_timer;
-            started_q   <= start;
             long_q      <= long;
-            cfg_rd_q    <= cfg_rd;
-            dbg_q       <= dbg;
-            reset_q     <= is_cmd && d0_rset;
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
             s2_d2_q     <= pkt_d2_i;
             dev_id_q    <= PIN_ID_W + dev_pin;
             pin_cfg_q   <= look_cfg;
             pin_level_q <= look_level;
             pin_fixed_q <= sel_fixed;
-            cfg_we_q    <= cfg_w;
-            out_we_q    <= out_w;
-            hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
-                           (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
-            // (a vector of its own, cleared by a condition all pins share: synthesis
-            // gives it the flops' synchronous reset, no gate a pin)
-            rearm_q     <= sel;
-            if (!(cfg_w || rst_w)) rearm_q <= {NUM_PINS{1'b0}};
             sel_q       <= sel;
-            start_q     <= sel & TIMER_MASK & {NUM_PINS{start}};
-        end else begin
-            // (each of these has the packet's valid in its decode: the same flops as before)
+        end
+        if (rst || !pkt_valid_i) begin
+            s2_valid_q  <= 1'b0;
             known_q     <= 1'b0;
             io_w_q      <= 1'b0;
             io_r_q      <= 1'b0;
@@ -214,20 +198,26 @@ module bsd_exec #(
             hb_answer_q <= 1'b0;
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
-        end
-        if (rst) begin
-            s2_valid_q  <= 1'b0;
-            known_q     <= 1'b0;
-            io_w_q      <= 1'b0;
-            io_r_q      <= 1'b0;
-            pt_q        <= 1'b0;
-            started_q   <= 1'b0;
-            reset_q     <= 1'b0;
-            cfg_we_q    <= 1'b0;
-            out_we_q    <= 1'b0;
-            hb_answer_q <= 1'b0;
-            rearm_q     <= {NUM_PINS{1'b0}};
-            start_q     <= {NUM_PINS{1'b0}};
+        end else begin
+            s2_valid_q  <= 1'b1;
+            known_q     <= probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
+                           (long && (cfg_w || rst_w));
+            io_w_q      <= c_out && pin_ok;
+            io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
+            pt_q        <= c_time && sel_timer;
+            started_q   <= start;
+            cfg_rd_q    <= cfg_rd;
+            dbg_q       <= dbg;
+            reset_q     <= is_cmd && d0_rset;
+            cfg_we_q    <= cfg_w;
+            out_we_q    <= out_w;
+            hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
+                           (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
+            // (an if, not an AND per pin: synthesis gives the condition all pins
+            // share to the flops' synchronous reset, no gate a pin)
+            rearm_q     <= sel;
+            if (!(cfg_w || rst_w)) rearm_q <= {NUM_PINS{1'b0}};
+            start_q     <= sel & TIMER_MASK & {NUM_PINS{start}};
         end
     end
 

@@ -41,20 +41,6 @@ module bsd_timeout_wheel #(
         end
     endfunction
 
-    // A 6-bit timer number (en: or none) to a one-hot vector: the block of
-    // 8 timers (a byte shifted by 8 x idx[5:3]) AND the timer in each block,
-    // so synthesis still sees two 8-way decoders and a gate per timer, and
-    // simulation a few word operations (not a statement per timer).
-    function [NUM_TIMERS-1:0] one_hot(input en, input [5:0] idx);
-        /* verilator lint_off UNUSEDSIGNAL */
-        reg [63:0] full;  // NUM_TIMERS < 64: the upper timers do not exist
-        /* verilator lint_on UNUSEDSIGNAL */
-        begin
-            full = ({64{en}} & (64'hFF << {idx[5:3], 3'b000})) & (64'h0101_0101_0101_0101 << idx[2:0]);
-            one_hot = full[NUM_TIMERS-1:0];
-        end
-    endfunction
-
     wire       start_any = |start_i;
     wire [5:0] start_idx;
     bsd_onehot_idx #(.N(NUM_TIMERS)) u_start_idx (.onehot_i(start_i), .idx_o(start_idx));
@@ -89,7 +75,8 @@ module bsd_timeout_wheel #(
     // Running and not yet inserted: one vector, one mux.
     wire [63:0] want64   = pad(run_i & ~ins_q);
     wire        cand     = !stale3_q && win3_q && want64[scan3_q];
-    wire [NUM_TIMERS-1:0] scan3_bit = one_hot(1'b1, scan3_q);
+    wire [NUM_TIMERS-1:0] scan3_bit;
+    bsd_idx_onehot #(.N(NUM_TIMERS)) u_scan3_bit (.en_i(1'b1), .idx_i(scan3_q), .onehot_o(scan3_bit));
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];

@@ -53,20 +53,6 @@ module bsd_timer_bank #(
 );
     localparam [NUM_TIMERS-1:0] NONE = {NUM_TIMERS{1'b0}};
 
-    // A 6-bit timer number (en: or none) to a one-hot vector: the block of
-    // 8 timers (a byte shifted by 8 x idx[5:3]) AND the timer in each block,
-    // so synthesis still sees two 8-way decoders and a gate per timer, and
-    // simulation a few word operations (not a statement per timer).
-    function [NUM_TIMERS-1:0] one_hot(input en, input [5:0] idx);
-        /* verilator lint_off UNUSEDSIGNAL */
-        reg [63:0] full;  // NUM_TIMERS < 64: the upper timers do not exist
-        /* verilator lint_on UNUSEDSIGNAL */
-        begin
-            full = ({64{en}} & (64'hFF << {idx[5:3], 3'b000})) & (64'h0101_0101_0101_0101 << idx[2:0]);
-            one_hot = full[NUM_TIMERS-1:0];
-        end
-    endfunction
-
     reg [15:0]         t_q;
     reg [NUM_TIMERS-1:0] run_q;
     reg [NUM_TIMERS-1:0] target_q;   // the level waited for (inverted as a pulse begins)
@@ -86,8 +72,9 @@ module bsd_timer_bank #(
     wire [NUM_TIMERS-1:0] finish   = complete | timeout;
     wire [NUM_TIMERS-1:0] start    = start_i;
     wire [NUM_TIMERS-1:0] deliver  = host_q | rflx_q;
-    wire [NUM_TIMERS-1:0] host_clr = one_hot(host_done_i, host_idx_i);
-    wire [NUM_TIMERS-1:0] rflx_clr = one_hot(rflx_done_i, rflx_idx_i);
+    wire [NUM_TIMERS-1:0] host_clr, rflx_clr;
+    bsd_idx_onehot #(.N(NUM_TIMERS)) u_host_clr (.en_i(host_done_i), .idx_i(host_idx_i), .onehot_o(host_clr));
+    bsd_idx_onehot #(.N(NUM_TIMERS)) u_rflx_clr (.en_i(rflx_done_i), .idx_i(rflx_idx_i), .onehot_o(rflx_clr));
     // A completion on the timeout clock wins; a pulse that begins on it has
     // no result (a timeout's event is r and f together).
     wire [NUM_TIMERS-1:0] ev_r_d   = ((start & ~mode_i & {NUM_TIMERS{host_i || rflx_i}}) |
