@@ -44,7 +44,7 @@
     end
 
     reg [7:0]  f_byte;
-    reg [15:0] f_sel;
+    reg [12:0] f_sel;
     integer    f_i;
     always @(*) begin
         case (f_kind)
@@ -57,13 +57,14 @@
             2'd1: f_byte = f_pos >= 4'd9 ? f_rt[7:0] : {f_rd, f_rt} >> (8 * (4'd9 - f_pos));
             default: f_byte = f_pos == 4'd2 ? CMD_HB : f_ht;
         endcase
-        f_sel = 16'd0;
-        f_sel[15] = f_pos == 4'd0;
-        f_sel[14] = f_pos == 4'd1;
-        if (f_kind == 2'd0) f_sel[13:10] = 4'b1000 >> (f_pos - 4'd2);
-        for (f_i = 0; f_i < 8; f_i = f_i + 1)
-            f_sel[2 + f_i] = f_kind == 2'd1 && (f_i < 7 ? f_pos == f_i + 2 : f_pos >= 4'd9);
-        if (f_kind == 2'd2) f_sel[1:0] = {f_pos == 4'd2, f_pos == 4'd3};
+        // the flag of the byte offered; a packet's last byte has none
+        f_sel = 13'd0;
+        f_sel[12] = f_pos == 4'd0;
+        f_sel[11] = f_pos == 4'd1;
+        if (f_kind == 2'd0) f_sel[10:8] = {f_pos == 4'd2, f_pos == 4'd3, f_pos == 4'd4};
+        for (f_i = 0; f_i < 7; f_i = f_i + 1)
+            f_sel[1 + f_i] = f_kind == 2'd1 && f_pos == f_i + 2;
+        if (f_kind == 2'd2) f_sel[0] = f_pos == 4'd2;
     end
 
     always @(*) begin
@@ -94,8 +95,7 @@
                 if (f_kind == 2'd0) assert(f_n == 4'd4);
                 if (f_pos >= 4'd2) assert(m_axis_tdata == f_byte);
                 // the byte flags: exactly the byte offered
-                assert({sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q, sel_rep_q,
-                        sel_hcmd_q, sel_htype_q} == f_sel);
+                assert({sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_rep_q, sel_hcmd_q} == f_sel);
             end
             if (item_ready_o) assert(!f_busy || (f_hs && m_axis_tlast));
             assert((timer_done_o || reply_done_o || hb_done_o) == (f_hs && m_axis_tlast));

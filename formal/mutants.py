@@ -89,7 +89,7 @@ MUTANTS = [
      "wire rep_wait_d = rep_req_o && !rep_done_i;", "wire rep_wait_d = rep_wait_q && !rep_done_i;"),
     ("bsd_exec", "prove", "bsd_exec.v",
      "a DIG_CFG write to a fixed pin is strobed (and re-arms it) instead of configErr",
-     "wire cfg_w   = c_cfg && pin_ok && !sel_fixed;", "wire cfg_w   = c_cfg && pin_ok;"),
+     "cfg_w   = c_cfg && pin_ok && !sel_fixed;", "cfg_w   = c_cfg && pin_ok;"),
 ]
 
 

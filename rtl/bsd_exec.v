@@ -68,75 +68,119 @@ module bsd_exec #(
     localparam [5:0] PIN_ID_W   = PIN_ID_BASE[5:0];
 
     // ------------------------------ stage 1: pin lookup and decisions
-    // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
-    wire [5:0] dev_pin = pkt_d1_i[5:0];
-
-    // The packet's kind, command and length as single flags.
-    wire is_cmd  = pkt_valid_i && pkt_kind_i == KIND_CMD;
-    wire d0_cfg  = pkt_d0_i == CMD_DIG_CFG;
-    wire d0_io   = pkt_d0_i == CMD_DIG_IO;
-    wire d0_rst  = pkt_d0_i == CMD_DIG_RST;
-    wire d0_time = pkt_d0_i == CMD_PTIME_RD;
-    wire d0_dbg  = pkt_d0_i == CMD_DEBUG;
-    wire d0_hb   = pkt_d0_i == CMD_HB;
-    wire d0_rset = pkt_d0_i == CMD_RESET;
-    wire d0_dig  = d0_cfg || d0_io || d0_rst || d0_time;
-    wire n_ge2   = pkt_n_i >= 4'd2;
-    wire n_ge3   = pkt_n_i >= 4'd3;
-    wire n1      = pkt_n_i == 4'd1;
-    wire n2      = pkt_n_i == 4'd2;
-    wire pin_ok  = pkt_d1_i < NUM_PINS_W;
-    wire dev_ok  = {2'b00, dev_pin} < NUM_PINS_W;
-    wire c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
-    wire c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
-    wire c_rst   = is_cmd && d0_rst && n_ge2;
-    wire c_time  = is_cmd && d0_time && n_ge2;
-
-    // The addressed pin as a one-hot; no line is set for a pin beyond
-    // NUM_PINS - 1. A `pin` byte must match whole (bits 7:6 zero); a DEVCODE's
-    // pin is its bits 5:0. cfg_i is field-major (bsd_cfg_regs): each DIGCFG
-    // field of all pins is one slice, picked with the one-hot by an AND-OR.
     localparam [NUM_PINS-1:0] ONE = 1;
-    wire [NUM_PINS-1:0] sel      = ONE << dev_pin;
 
-    // The addressed pin's state; zero for a pin beyond the last.
-    wire [4:0] look_cfg;
-    genvar g;
-    generate
-        for (g = 0; g < 5; g = g + 1) begin : g_look
-            assign look_cfg[g] = |(cfg_i[g*NUM_PINS +: NUM_PINS] & sel);
+    // Stage 1 decides everything about a packet at once, as one vector (the
+    // flops it loads are listed below, in its order). It is a function,
+    // called only in the branch of a packet's clock (and of reset): a
+    // simulator decodes a packet on its clock only, where wires would be
+    // worked out every clock; synthesis gives the same gates either way.
+    localparam integer DW = 34 + 3 * NUM_PINS + 11;
+    function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] d0, input [7:0] d1,
+                             input [5*NUM_PINS-1:0] cfg, input [NUM_PINS-1:0] level,
+                             input [NUM_PINS-1:0] busy);
+        reg [5:0]          dev_pin;
+        reg                is_cmd, d0_cfg, d0_io, d0_rst, d0_time, d0_dbg, d0_hb, d0_rset, d0_dig;
+        reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_out, c_rst, c_time;
+        reg [NUM_PINS-1:0] sel;
+        reg [4:0]          look_cfg;
+        reg                look_level, look_busy, look_in, sel_fixed, sel_timer;
+        reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
+        reg                serial, probe, long;
+        reg [7:0]          b0, b1;
+        reg [3:0]          rn;
+        integer            k;
+        begin
+            // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
+            dev_pin = d1[5:0];
+
+            // The packet's kind, command and length as single flags.
+            is_cmd  = kind == KIND_CMD;
+            d0_cfg  = d0 == CMD_DIG_CFG;
+            d0_io   = d0 == CMD_DIG_IO;
+            d0_rst  = d0 == CMD_DIG_RST;
+            d0_time = d0 == CMD_PTIME_RD;
+            d0_dbg  = d0 == CMD_DEBUG;
+            d0_hb   = d0 == CMD_HB;
+            d0_rset = d0 == CMD_RESET;
+            d0_dig  = d0_cfg || d0_io || d0_rst || d0_time;
+            n_ge2   = n >= 4'd2;
+            n_ge3   = n >= 4'd3;
+            n1      = n == 4'd1;
+            n2      = n == 4'd2;
+            pin_ok  = d1 < NUM_PINS_W;
+            dev_ok  = {2'b00, dev_pin} < NUM_PINS_W;
+            c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
+            c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
+            c_rst   = is_cmd && d0_rst && n_ge2;
+            c_time  = is_cmd && d0_time && n_ge2;
+
+            // The addressed pin as a one-hot; no line is set for a pin beyond
+            // NUM_PINS - 1. A `pin` byte must match whole (bits 7:6 zero); a
+            // DEVCODE's pin is its bits 5:0. cfg is field-major (bsd_cfg_regs):
+            // each DIGCFG field of all pins is one slice, picked with the
+            // one-hot by an AND-OR.
+            sel = ONE << dev_pin;
+
+            // The addressed pin's state; zero for a pin beyond the last.
+            for (k = 0; k < 5; k = k + 1) look_cfg[k] = |(cfg[k*NUM_PINS +: NUM_PINS] & sel);
+            look_level = |(level & sel);
+            look_busy  = |(busy & sel & TIMER_MASK);
+            look_in    = look_cfg[IODIR];
+            sel_fixed  = |(sel & FIXED_MASK);
+            sel_timer  = |(sel & TIMER_MASK);
+
+            // The state changes are decided once, from the lookup, not per
+            // pin: the pins see them as the registered one-hot and a strobe
+            // each (a gate a pin for all of them, rather than a decision a pin
+            // for each).
+
+            // The reply, decided as far as the packet alone tells; stage 2 adds
+            // only what the pin's IODIR and its timer's start decide, in a gate
+            // or two between flops and the reply slot. A reply's bytes past its
+            // N are never sent, so they are left as they fall.
+            cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
+            rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
+            out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
+            start   = c_time && sel_timer && look_in && !look_busy;  // a PTIME_RD that starts
+            idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
+                      (is_cmd && d0_io && n2 && !dev_ok) ||
+                      (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
+            m_inv   = is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
+            m_short = is_cmd && d0_dig && n1;
+            cfgerr  = c_cfg && pin_ok && sel_fixed;
+            cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
+            dbg     = is_cmd && d0_dbg;
+            serial  = kind == KIND_SERIAL;
+            probe   = kind == KIND_PROBE;
+            // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
+            long    = (d0_cfg || d0_io) ? n > 4'd3 : n > 4'd2;
+
+            b0 = probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
+            b1 = (cfg_rd || dbg) ? d1 :
+                 ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
+                 ({8{m_short}} & MSG_CMD_TOO_SHORT) | ({8{cfgerr}}  & MSG_CONFIG_ERR) |
+                 ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
+                 ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
+            rn = probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? n : MSG_N[3:0];
+
+            stage1 = {b0, b1, rn, long, PIN_ID_W + dev_pin, look_cfg, look_level, sel_fixed, sel,
+                      // the flags, cleared on a clock without a packet
+                      probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
+                          (long && (cfg_w || rst_w)),       // known
+                      c_out && pin_ok,                      // io_w
+                      is_cmd && d0_io && n2 && dev_ok,      // io_r
+                      c_time && sel_timer,                  // pt
+                      start,                                // started
+                      cfg_rd, dbg,
+                      is_cmd && d0_rset,                    // reset
+                      cfg_w, out_w,                         // cfg_we, out_we
+                      is_cmd && d0_hb && n_ge2 &&           // hb_answer
+                          (d1 == HB_UP + HB_ANSWER_OFFSET || d1 == HB_DOWN + HB_ANSWER_OFFSET),
+                      sel & {NUM_PINS{cfg_w || rst_w}},     // rearm
+                      sel & TIMER_MASK & {NUM_PINS{start}}};  // start
         end
-    endgenerate
-    wire look_level = |(level_i & sel);
-    wire look_busy  = |(timer_busy_i & sel & TIMER_MASK);
-    wire look_in    = look_cfg[IODIR];
-    wire sel_fixed = |(sel & FIXED_MASK);
-    wire sel_timer = |(sel & TIMER_MASK);
-
-    // The state changes are decided once, from the lookup, not per pin: the
-    // pins see them as the registered one-hot and a strobe each (a gate a pin
-    // for all of them, rather than a decision a pin for each).
-
-    // The reply, decided as far as the packet alone tells; stage 2 adds only
-    // what the pin's IODIR and its timer's start decide, in a gate or two
-    // between flops and the reply slot. A reply's bytes past its N are never
-    // sent, so they are left as they fall.
-    wire cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
-    wire rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
-    wire out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
-    wire start   = c_time && sel_timer && look_in && !look_busy;  // a PTIME_RD that starts
-    wire idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
-                   (is_cmd && d0_io && n2 && !dev_ok) ||
-                   (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
-    wire m_inv   = is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
-    wire m_short = is_cmd && d0_dig && n1;
-    wire cfgerr  = c_cfg && pin_ok && sel_fixed;
-    wire cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
-    wire dbg     = is_cmd && d0_dbg;
-    wire serial  = pkt_valid_i && pkt_kind_i == KIND_SERIAL;
-    wire probe   = pkt_valid_i && pkt_kind_i == KIND_PROBE;
-    // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
-    wire long    = (d0_cfg || d0_io) ? pkt_n_i > 4'd3 : pkt_n_i > 4'd2;
+    endfunction
 
     reg                s2_valid_q;
     reg                known_q;       // a reply the packet alone decides
@@ -159,29 +203,20 @@ module bsd_exec #(
     reg [NUM_PINS-1:0] rearm_q;
     reg [NUM_PINS-1:0] sel_q, start_q;
 
-    // Stage 1's decode is written only on a packet's clock, so that a
-    // simulator evaluates it only then: the data flops (reply bytes, d1/d2,
-    // the lookup) hold between packets (enabled flops, SB_DFFE; they load in
-    // reset too, so no flop is left unknown); the flags and strobes are
-    // cleared on a clock without a packet and in reset (one synchronous
-    // clear that every flag shares).
+    // Stage 1's decision is loaded only on a packet's clock: the data flops
+    // (reply bytes, d1/d2, the lookup) hold between packets (enabled flops,
+    // SB_DFFE; they load in reset too, so no flop is left unknown); the flags
+    // and strobes are cleared on a clock without a packet and in reset (one
+    // synchronous clear that every flag shares).
     always @(posedge clk) begin
+        s2_valid_q <= pkt_valid_i;
         if (pkt_valid_i || rst) begin
-            b0_q        <= probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
-            b1_q        <= (cfg_rd || dbg) ? pkt_d1_i :
-                           ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
-                           ({8{m_short}} & MSG_CMD_TOO_SHORT) | ({8{cfgerr}}  & MSG_CONFIG_ERR) |
-                           ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
-                           ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
-            rn_q        <= probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? pkt_n_i : MSG_N[3:0];
-            long_q      <= long;
+            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_cfg_q, pin_level_q, pin_fixed_q, sel_q,
+             known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
+             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i,
+                                                      cfg_i, level_i, timer_busy_i);
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
             s2_d2_q     <= pkt_d2_i;
-            dev_id_q    <= PIN_ID_W + dev_pin;
-            pin_cfg_q   <= look_cfg;
-            pin_level_q <= look_level;
-            pin_fixed_q <= sel_fixed;
-            sel_q       <= sel;
         end
         if (rst || !pkt_valid_i) begin
             s2_valid_q  <= 1'b0;
@@ -198,26 +233,6 @@ module bsd_exec #(
             hb_answer_q <= 1'b0;
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
-        end else begin
-            s2_valid_q  <= 1'b1;
-            known_q     <= probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
-                           (long && (cfg_w || rst_w));
-            io_w_q      <= c_out && pin_ok;
-            io_r_q      <= is_cmd && d0_io && n2 && dev_ok;
-            pt_q        <= c_time && sel_timer;
-            started_q   <= start;
-            cfg_rd_q    <= cfg_rd;
-            dbg_q       <= dbg;
-            reset_q     <= is_cmd && d0_rset;
-            cfg_we_q    <= cfg_w;
-            out_we_q    <= out_w;
-            hb_answer_q <= is_cmd && d0_hb && n_ge2 &&
-                           (pkt_d1_i == HB_UP + HB_ANSWER_OFFSET || pkt_d1_i == HB_DOWN + HB_ANSWER_OFFSET);
-            // (an if, not an AND per pin: synthesis gives the condition all pins
-            // share to the flops' synchronous reset, no gate a pin)
-            rearm_q     <= sel;
-            if (!(cfg_w || rst_w)) rearm_q <= {NUM_PINS{1'b0}};
-            start_q     <= sel & TIMER_MASK & {NUM_PINS{start}};
         end
     end
 

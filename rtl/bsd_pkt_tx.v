@@ -88,30 +88,32 @@ module bsd_pkt_tx #(
     wire [1:0] kind = item_data_i[29:28];
     wire [3:0] n    = kind == KIND_TIMER ? 4'd4 : kind == KIND_REPLY ? rep_n_i : 4'd2;
 
-    // The byte on offer, selected by one-hot flags (a flag per byte of each
-    // source, the kind folded in) instead of a mux on pos_q and kind_q: an
-    // AND-OR of a few terms, so m_axis_tdata is 3 LUT levels from flops. The
-    // flags advance with pos_q (pos_q itself still counts for tlast).
+    // The byte on offer sits in a register (tdata_q), written as the packet
+    // starts (the address) and on each handshake (the next byte), so a
+    // simulator works the byte out once per byte, not every clock. The next
+    // byte is picked by one-hot flags, one per byte of each source (the kind
+    // folded in), that mark the byte offered now: an AND-OR of a few terms
+    // instead of a mux on pos_q and kind_q. The flags advance with pos_q
+    // (pos_q itself still counts for tlast).
     reg        sel_addr_q, sel_n_q;
-    reg        sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q;  // a timer result's d0..d3
-    reg [7:0]  sel_rep_q;                                    // the reply's d0..d7
-    reg        sel_hcmd_q, sel_htype_q;                      // the heartbeat's d0, d1
+    reg        sel_tcmd_q, sel_tid_q, sel_thi_q;  // a timer result's d0..d2 (d3 is last)
+    reg [6:0]  sel_rep_q;                         // the reply's d0..d6 (d7 is last)
+    reg        sel_hcmd_q;                        // the heartbeat's d0 (d1 is last)
+    reg [7:0]  tdata_q;
     function [7:0] when(input s, input [7:0] b);
         begin
             when = {8{s}} & b;
         end
     endfunction
+    // The reply byte after the one offered: d0 after N, d(j+1) after dj.
+    function [7:0] rep_next(input n_now, input [6:0] sel, input [63:0] bytes);
+        integer j;
+        begin
+            rep_next = when(n_now, bytes[63:56]);
+            for (j = 0; j < 7; j = j + 1) rep_next = rep_next | when(sel[j], bytes[55-8*j -: 8]);
+        end
+    endfunction
     wire [63:0] rep_bytes = {rep_data_i, rep_tail_i};
-    reg  [7:0]  byte_rep;
-    integer     i;
-    always @* begin
-        byte_rep = 8'd0;
-        for (i = 0; i < 8; i = i + 1) byte_rep = byte_rep | when(sel_rep_q[i], rep_bytes[63-8*i -: 8]);
-    end
-    wire [7:0] tx_byte = when(sel_addr_q, ADDR_OWN) | when(sel_n_q, {4'd0, n_q}) |
-                         when(sel_tcmd_q, CMD_DEV_VAL) | when(sel_tid_q, {2'b00, id_q}) |
-                         when(sel_thi_q, result_q[15:8]) | when(sel_tlo_q, result_q[7:0]) |
-                         byte_rep | when(sel_hcmd_q, CMD_HB) | when(sel_htype_q, hb_type_q);
 
     wire done = hs && last_q && credit_q;
     assign item_ready_o  = load;
@@ -122,7 +124,7 @@ module bsd_pkt_tx #(
     assign timer_idx_o   = idx_q;
     assign reply_done_o  = done && kind_q == KIND_REPLY;
     assign hb_done_o     = done && kind_q == KIND_HB;
-    assign m_axis_tdata  = tx_byte;
+    assign m_axis_tdata  = tdata_q;
     assign m_axis_tvalid = valid_q;
     assign m_axis_tlast  = last_q;
 
@@ -138,20 +140,26 @@ module bsd_pkt_tx #(
             hb_type_q  <= hb_type_i;
             id_q     <= item_data_i[21:16];
             result_q <= item_data_i[15:0];
-            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q} <= 6'b100000;
-            {sel_rep_q, sel_hcmd_q, sel_htype_q} <= 10'd0;
+            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
+            {sel_rep_q, sel_hcmd_q} <= 8'd0;
+            tdata_q  <= ADDR_OWN;
         end else if (hs) begin
-            // The next byte's flag; past the last byte (a reply of N > 8 is
-            // refused by the contract) the reply's last one stays.
+            tdata_q     <= when(sel_addr_q, {4'd0, n_q}) |
+                           when(sel_n_q && kind_q == KIND_TIMER, CMD_DEV_VAL) |
+                           when(sel_tcmd_q, {2'b00, id_q}) | when(sel_tid_q, result_q[15:8]) |
+                           when(sel_thi_q, result_q[7:0]) |
+                           rep_next(sel_n_q && kind_q == KIND_REPLY, sel_rep_q, rep_bytes) |
+                           when(sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY, CMD_HB) |
+                           when(sel_hcmd_q, hb_type_q);
+            // The next byte's flag (none after a packet's last byte: a reply
+            // has N <= 8, PROTOCOL.md).
             sel_addr_q  <= 1'b0;
             sel_n_q     <= sel_addr_q;
             sel_tcmd_q  <= sel_n_q && kind_q == KIND_TIMER;
             sel_tid_q   <= sel_tcmd_q;
             sel_thi_q   <= sel_tid_q;
-            sel_tlo_q   <= sel_thi_q;
-            sel_rep_q   <= {sel_rep_q[6:0] , sel_n_q && kind_q == KIND_REPLY} | {sel_rep_q[7], 7'd0};
+            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && kind_q == KIND_REPLY};
             sel_hcmd_q  <= sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY;
-            sel_htype_q <= sel_hcmd_q;
             pos_q   <= pos_q + 4'd1;
             last_q  <= pos_q == n_q;  // the next byte is d(N-1)
             first_q <= 1'b0;
@@ -176,9 +184,10 @@ module bsd_pkt_tx #(
             credit_q  <= 1'b0;
             n_q     <= 4'd0;
             kind_q  <= 2'd0;
-            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_tlo_q} <= 6'b100000;
-            {sel_rep_q, sel_hcmd_q, sel_htype_q} <= 10'd0;
+            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
+            {sel_rep_q, sel_hcmd_q} <= 8'd0;
             idx_q   <= 6'd0;
+            tdata_q <= ADDR_OWN;
         end
     end
 
