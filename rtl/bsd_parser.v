@@ -80,60 +80,57 @@ module bsd_parser #(
     // while stop_q is 1 (stop_q = pend_q || data_q && own_q && last_q), so the
     // late hold_i selects between terms that do not wait for it. rst resets
     // every register the terms below steer.
-    wire v         = s_axis_tvalid;
-    wire take      = v && !(hold_i && stop_q);
-    wire addr_acc  = !len_q && !data_q && take;   // the byte is an address
-    wire len_acc   = len_q && v;                  // N (stop_q is 0 in len_q)
-    wire data_acc  = data_q && take;
-    // Idle ticks count while a partial packet could take a byte and none is
-    // offered; the TIMEOUT_TICKS-th drops the packet.
-    wire idle_inc  = !v && tick_i && !(hold_i && stop_q) && (len_q || data_q);
-    wire idle_tmo  = (RX_TIMEOUT_US != 0) && tick_i && idle_q[TW];  // an idle tick now drops
+    //
+    // Everything that reads the offered byte is a function called in the
+    // clocked block, not a wire: a simulator then works the input's logic out
+    // once a clock, at the edge, where wires would have it worked out as the
+    // inputs change and again after each edge. (The functions read the
+    // flops and hold_i, tick_i directly; synthesis gives the same gates.)
 
+    // The byte is taken: it is offered and nothing holds it.
+    function take(input v);
+        take = v && !(hold_i && stop_q);
+    endfunction
     // Byte decode from plain gates, not adders or magnitude comparators.
-    wire len_zero = ~|s_axis_tdata;
-    wire len_over = (|s_axis_tdata[7:4]) | (s_axis_tdata[3] & (|s_axis_tdata[2:0]));  // > 8
-    wire to_pend  = (own_q && len_over) || (probe_q && len_zero);
-    wire to_data  = !len_over && !len_zero;
-    // N is 1..8 there, so N = 1 shows in its low 3 bits alone.
-    wire len_one  = s_axis_tdata[2:0] == 3'd1;
+    function len_zero(input [7:0] b);
+        len_zero = ~|b;
+    endfunction
+    function len_over(input [7:0] b);  // > 8
+        len_over = (|b[7:4]) | (b[3] & (|b[2:0]));
+    endfunction
+    // N is 1..8 where it is read, so N = 1 shows in its low 3 bits alone.
+    function len_one(input [2:0] b);
+        len_one = b == 3'd1;
+    endfunction
 
-    wire len_d  = stop_q ? pend_q && v && !hold_i
-                         : (!len_q && !data_q && v) || (len_q && !v && !idle_tmo);
-    wire data_d = stop_q ? data_q && (hold_i || (!v && !idle_tmo))
-                         : (len_q && v && to_data) || (data_q && (v ? !last_q : !idle_tmo));
-    wire pend_d = stop_q ? pend_q && hold_i : len_q && v && to_pend;
-    // A packet to this module with its next byte its last, or a packet pending.
-    wire stop_d = stop_q ? hold_i || (data_q && !v && !idle_tmo)
-                         : v && ((len_q && ((to_data && own_q && len_one) || to_pend)) ||
-                                 (data_q && own_q && rem_q == 3'd1));
-    wire pkt_valid_d = stop_q && !hold_i && (pend_q || (data_q && v));
+    // {len, data, pend, stop, pkt_valid}: the state flags' next values.
+    function [4:0] next_state(input v, input [7:0] b);
+        reg tmo, to_pend, to_data;
+        begin
+            // An idle tick now drops a partial packet (idle_q below).
+            tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q[TW];
+            to_pend = (own_q && len_over(b)) || (probe_q && len_zero(b));
+            to_data = !len_over(b) && !len_zero(b);
+            if (stop_q)
+                next_state = {pend_q && v && !hold_i,
+                              data_q && (hold_i || (!v && !tmo)),
+                              pend_q && hold_i,
+                              hold_i || (data_q && !v && !tmo),
+                              !hold_i && (pend_q || (data_q && v))};
+            else
+                // (a packet to this module with its next byte its last, or a packet pending)
+                next_state = {(!len_q && !data_q && v) || (len_q && !v && !tmo),
+                              (len_q && v && to_data) || (data_q && (v ? !last_q : !tmo)),
+                              len_q && v && to_pend,
+                              v && ((len_q && ((to_data && own_q && len_one(b[2:0])) || to_pend)) ||
+                                    (data_q && own_q && rem_q == 3'd1)),
+                              1'b0};
+        end
+    endfunction
 
+    // (Ordered so that each flop is read before it is written, as far as
+    // the loops between them allow: a simulator then keeps fewer copies.)
     always @(posedge clk) begin
-        len_q       <= len_d;
-        data_q      <= data_d;
-        pend_q      <= pend_d;
-        stop_q      <= stop_d;
-        pkt_valid_q <= pkt_valid_d;
-        if (addr_acc) begin
-            own_q   <= s_axis_tdata == ADDR_OWN;
-            probe_q <= s_axis_tdata == ADDR_RESYNC;
-        end
-        if (len_acc) begin
-            rem_q  <= s_axis_tdata[2:0] - 3'd1;
-            last_q <= len_one;
-            pos_q  <= 8'd1;
-            // The kind of the packet this N makes (a command if it has data).
-            pkt_kind_q <= (own_q && len_over) ? KIND_SERIAL : (probe_q && len_zero) ? KIND_PROBE : KIND_CMD;
-        end
-        if (data_acc) begin
-            rem_q  <= rem_q - 3'd1;
-            last_q <= rem_q == 3'd1;
-            pos_q  <= {pos_q[6:0], 1'b0};
-        end
-        if (take) idle_q <= IDLE_INIT[TW:0];
-        else if (idle_inc) idle_q <= idle_q + 1'b1;
-
         // N and the data bytes take the offered byte whether or not it is
         // accepted (no tvalid or tready in these enables): the slot of the next
         // data byte follows the offered byte until it is taken, so it ends
@@ -151,6 +148,28 @@ module bsd_parser #(
         if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
         if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
 
+        if (data_q && take(s_axis_tvalid)) begin  // a data byte
+            rem_q  <= rem_q - 3'd1;
+            last_q <= rem_q == 3'd1;
+            pos_q  <= {pos_q[6:0], 1'b0};
+        end
+        if (len_q && s_axis_tvalid) begin  // N (stop_q is 0 in len_q)
+            rem_q  <= s_axis_tdata[2:0] - 3'd1;
+            last_q <= len_one(s_axis_tdata[2:0]);
+            pos_q  <= 8'd1;
+            // The kind of the packet this N makes (a command if it has data).
+            pkt_kind_q <= (own_q && len_over(s_axis_tdata)) ? KIND_SERIAL :
+                          (probe_q && len_zero(s_axis_tdata)) ? KIND_PROBE : KIND_CMD;
+        end
+        if (!len_q && !data_q && take(s_axis_tvalid)) begin  // an address
+            own_q   <= s_axis_tdata == ADDR_OWN;
+            probe_q <= s_axis_tdata == ADDR_RESYNC;
+        end
+        // Idle ticks count while a partial packet could take a byte and none
+        // is offered; the TIMEOUT_TICKS-th drops the packet.
+        if (take(s_axis_tvalid)) idle_q <= IDLE_INIT[TW:0];
+        else if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q)) idle_q <= idle_q + 1'b1;
+        {len_q, data_q, pend_q, stop_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
         if (rst) begin
             len_q       <= 1'b0;
             data_q      <= 1'b0;
