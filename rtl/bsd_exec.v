@@ -65,6 +65,21 @@ module bsd_exec #(
 
     localparam integer IODIR = 0;  // DIGCFG bit: 1 = input
     localparam [7:0] NUM_PINS_W = NUM_PINS[7:0];
+
+    // x < K for a constant K, as gates: synthesis folds the constant into a
+    // few LUTs where a comparator would take a carry chain.
+    function below(input [7:0] x, input [7:0] k);
+        integer j;
+        reg     eq;
+        begin
+            below = 1'b0;
+            eq    = 1'b1;
+            for (j = 7; j >= 0; j = j - 1) begin
+                below = below | (eq & k[j] & ~x[j]);
+                eq    = eq & (x[j] == k[j]);
+            end
+        end
+    endfunction
     localparam [5:0] PIN_ID_W   = PIN_ID_BASE[5:0];
 
     // ------------------------------ stage 1: pin lookup and decisions
@@ -104,12 +119,12 @@ module bsd_exec #(
             d0_hb   = d0 == CMD_HB;
             d0_rset = d0 == CMD_RESET;
             d0_dig  = d0_cfg || d0_io || d0_rst || d0_time;
-            n_ge2   = n >= 4'd2;
-            n_ge3   = n >= 4'd3;
+            n_ge2   = |n[3:1];
+            n_ge3   = |n[3:2] || &n[1:0];
             n1      = n == 4'd1;
             n2      = n == 4'd2;
-            pin_ok  = d1 < NUM_PINS_W;
-            dev_ok  = {2'b00, dev_pin} < NUM_PINS_W;
+            pin_ok  = below(d1, NUM_PINS_W);
+            dev_ok  = below({2'b00, dev_pin}, NUM_PINS_W);
             c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
             c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
             c_rst   = is_cmd && d0_rst && n_ge2;
@@ -154,7 +169,7 @@ module bsd_exec #(
             serial  = kind == KIND_SERIAL;
             probe   = kind == KIND_PROBE;
             // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
-            long    = (d0_cfg || d0_io) ? n > 4'd3 : n > 4'd2;
+            long    = (d0_cfg || d0_io) ? |n[3:2] : n_ge3;
 
             b0 = probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
             b1 = (cfg_rd || dbg) ? d1 :
