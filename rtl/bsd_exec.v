@@ -192,8 +192,19 @@ module bsd_exec #(
                       cfg_w, out_w,                         // cfg_we, out_we
                       is_cmd && d0_hb && n_ge2 &&           // hb_answer
                           (d1 == HB_UP + HB_ANSWER_OFFSET || d1 == HB_DOWN + HB_ANSWER_OFFSET),
-                      sel & {NUM_PINS{cfg_w || rst_w}},     // rearm
+                      sel,                                  // rearm (cleared below unless rearms())
                       sel & TIMER_MASK & {NUM_PINS{start}}};  // start
+        end
+    endfunction
+
+    // Whether the packet re-arms its pin (cfg_w || rst_w above), for the
+    // re-arm strobes' clear: an if, not an AND per pin, so that synthesis
+    // gives the condition all pins share to the flops' synchronous reset.
+    function rearms(input [1:0] kind, input [3:0] n, input [7:0] d0, input [7:0] d1);
+        begin
+            rearms = kind == KIND_CMD && below(d1, NUM_PINS_W) &&
+                     ((d0 == CMD_DIG_CFG && (|n[3:2] || &n[1:0]) && !(|((ONE << d1[5:0]) & FIXED_MASK))) ||
+                      (d0 == CMD_DIG_RST && |n[3:1]));
         end
     endfunction
 
@@ -248,6 +259,8 @@ module bsd_exec #(
             hb_answer_q <= 1'b0;
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
+        end else if (!rearms(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i)) begin
+            rearm_q     <= {NUM_PINS{1'b0}};
         end
     end
 
