@@ -6,9 +6,9 @@
 // the command reply (its bytes wait in bsd_reply_slot) or the heartbeat
 // (its type waits in bsd_heartbeat). So there is no K-way packet mux and no
 // arbiter: the head item is taken on the clock of the previous packet's
-// last handshake (packets leave back to back), and m_axis_tdata is a byte
-// mux driven by registers (a flag per byte), which m_axis_tready only
-// advances. When a packet's last byte
+// last handshake (packets leave back to back), and m_axis_tdata is a
+// register, loaded with the next byte (picked by a flag per byte) on each
+// handshake. When a packet's last byte
 // leaves, its source is told (timer_done_o with its index, reply_done_o,
 // hb_done_o): a timer is busy, and the reply slot full, until then.
 //
