@@ -63,11 +63,10 @@
             if (more || any_t || dio_q || rep_q || hb_q) assert(f_takes == 3'd1);
             if (take_t && f_have_k) assert(k > f_last_k);
             if (take_t) assert(k < NT && low == ({{(NT-1){1'b0}}, 1'b1} << k));
-            // the DIG_IO value ranks by ID against the timers (before_q is loaded, and
-            // read, only with a value)
+            // the DIG_IO value ranks by ID against the timers (read only with a value)
             if (dio_q)
                 for (f_j2 = 0; f_j2 < NT; f_j2 = f_j2 + 1)
-                    assert(before_q[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
+                    assert(ranks[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
             if (take_t && dio_q) assert(!(dio_id_q < k_id));
             if (take_dio && f_have_k) assert(!(dio_id_q < IDS[6*f_last_k +: 6]));
             if (take_dio && any_t) assert(dio_id_q < k_id);

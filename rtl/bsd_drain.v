@@ -38,14 +38,16 @@ module bsd_drain #(
     input  wire [2*NT+25:0]           ev_data_i,    // {r, f, reply, dio, hb, dio ID, dio level, T}
     output wire                       ev_ready_o,
     output wire                       empty_o,      // no item left (a flop)
-    // the timers' delivery flags (bsd_timer_bank)
-    input  wire [NT-1:0]              host_pend_i,
-    input  wire [NT-1:0]              rflx_pend_i,
+    // each timer's run's HOST and RFLX bits (bsd_timer_bank)
+    input  wire [NT-1:0]              run_host_i,
+    input  wire [NT-1:0]              run_rflx_i,
     // to the transmitter's queue: {kind, timer, its device ID, result}
     output wire                       order_valid_o,
     output wire [29:0]                order_data_o,
     // RFLX
-    output wire                       rflx_done_o,  // a timer's strobe is given
+    // a timer without HOST is delivered: its strobe is given (with HOST the
+    // packet's last byte, always later, frees the timer: bsd_timer_bank)
+    output wire                       rflx_done_o,
     output wire [5:0]                 rflx_idx_o,
     output wire                       rflx_valid_o,
     output wire [5:0]                 rflx_id_o,
@@ -88,16 +90,6 @@ module bsd_drain #(
     localparam       CONTIG = contiguous(0);
     localparam [5:0] ID0    = IDS[5:0];
 
-    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
-    function [63:0] pad(input [NT-1:0] v);
-        begin
-            pad = 64'd0;
-            pad[NT-1:0] = v;
-        end
-    endfunction
-    wire [63:0] host64 = pad(host_pend_i);
-    wire [63:0] rflx64 = pad(rflx_pend_i);
-
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
     // their r and f bits (r_q, f_q: only loaded, read where rem_q is set).
@@ -116,26 +108,54 @@ module bsd_drain #(
     wire [5:0]          k;
     bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
-    // not above its own): the timers that do are worked out as the entry is
-    // taken (before_q), so the pick compares no IDs.
-    reg  [NT-1:0]       before_q;
-    // ID >= a constant, for every timer's ID, from three 8-way decodes of the
-    // value's ID (a 3-input gate per timer, no comparator per timer). The
-    // gates are evaluated only as an entry with a DIG_IO value is taken (a
-    // statement per timer in simulation, not on every clock).
-    wire [5:0]          dio_id_in = ev_data_i[22:17];
+    // not above its own). ID >= a constant, for every timer's ID, from three
+    // 8-way decodes of the value's ID (dio_id_q), each spread over the timers
+    // by constant masks (the timers whose ID has those high or low bits): a
+    // gate per timer with its rem bit after synthesis, no comparator and no
+    // flop per timer, so the pick compares no IDs; a few word operations in
+    // simulation.
+    // The timers whose ID's bits [5:3] (hi = 1) or [2:0] (hi = 0) are v, for
+    // v = 0..7 in NT-bit fields. Only localparam initializers call it.
+    /* verilator coverage_off */
+    function [8*NT-1:0] id_masks(input integer hi);
+        integer t;
+        reg [2:0] f;
+        begin
+            id_masks = {8*NT{1'b0}};
+            for (t = 0; t < NT; t = t + 1) begin
+                f = hi != 0 ? IDS[6*t+3 +: 3] : IDS[6*t +: 3];
+                id_masks[NT * {29'd0, f} + t] = 1'b1;
+            end
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [8*NT-1:0] HI_MASKS = id_masks(1);
+    localparam [8*NT-1:0] LO_MASKS = id_masks(0);
     wire [7:0]          hi_gt, hi_eq, lo_ge;
     genvar g;
     generate
         for (g = 0; g < 8; g = g + 1) begin : g_dec
             /* verilator lint_off UNSIGNED */
-            assign hi_gt[g] = dio_id_in[5:3] > g;
-            assign hi_eq[g] = dio_id_in[5:3] == g;
-            assign lo_ge[g] = dio_id_in[2:0] >= g;
+            assign hi_gt[g] = dio_id_q[5:3] > g;
+            assign hi_eq[g] = dio_id_q[5:3] == g;
+            assign lo_ge[g] = dio_id_q[2:0] >= g;
             /* verilator lint_on UNSIGNED */
         end
     endgenerate
-    wire                dio_first = dio_q && !(|(rem & before_q));
+    reg  [NT-1:0]       hi_gt_t, hi_eq_t, lo_ge_t;
+    integer             dv;
+    always @(*) begin
+        hi_gt_t = {NT{1'b0}};
+        hi_eq_t = {NT{1'b0}};
+        lo_ge_t = {NT{1'b0}};
+        for (dv = 0; dv < 8; dv = dv + 1) begin
+            hi_gt_t = hi_gt_t | ({NT{hi_gt[dv]}} & HI_MASKS[NT*dv +: NT]);
+            hi_eq_t = hi_eq_t | ({NT{hi_eq[dv]}} & HI_MASKS[NT*dv +: NT]);
+            lo_ge_t = lo_ge_t | ({NT{lo_ge[dv]}} & LO_MASKS[NT*dv +: NT]);
+        end
+    end
+    wire [NT-1:0]       ranks = hi_gt_t | (hi_eq_t & lo_ge_t);  // the timers whose ID is not above the value's
+    wire                dio_first = dio_q && !(|(rem & ranks));
     wire                take_t    = any_t && !dio_first;
     wire                take_dio  = dio_first;
     wire                take_rep  = !any_t && !dio_q && rep_q;
@@ -161,16 +181,6 @@ module bsd_drain #(
     assign ev_ready_o = next;
     assign empty_o    = empty_q;
 
-    integer             bt;
-    always @(posedge clk) begin
-        // Read only while dio_q is set, which is loaded with it (and ev_valid_i).
-        if (next && ev_data_i[24]) begin
-            for (bt = 0; bt < NT; bt = bt + 1)
-                before_q[bt] <= hi_gt[IDS[6*bt+3 +: 3]] |
-                                (hi_eq[IDS[6*bt+3 +: 3]] & lo_ge[IDS[6*bt +: 3]]);
-        end
-    end
-
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
@@ -179,6 +189,17 @@ module bsd_drain #(
     reg [15:0] a_t16_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
     reg        a_f_q;
+    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
+    function [63:0] pad(input [NT-1:0] v);
+        begin
+            pad = 64'd0;
+            pad[NT-1:0] = v;
+        end
+    endfunction
+    wire [63:0] host64 = pad(run_host_i);
+    wire [63:0] rflx64 = pad(run_rflx_i);
+    wire        a_h = host64[a_k_q];
+    wire        a_x = rflx64[a_k_q];
     reg        b_tmo_q;
     reg [5:0]  b_k_q;
     reg [15:0] b_t16_q;
@@ -203,10 +224,10 @@ module bsd_drain #(
     // b_rdone_q), so the transmitter's load and the timers' clears start at
     // a flop; the data come straight from stage B (the output queue, or the
     // transmitter when that is empty, registers it).
-    reg        b_ord_q, b_rdone_q;
+    reg        b_ord_q, b_rdone_q, b_free_q;
     assign order_valid_o = b_ord_q;
     assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
-    assign rflx_done_o   = b_rdone_q;
+    assign rflx_done_o   = b_free_q;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
     assign rflx_id_o     = rflx_id_q;
@@ -251,8 +272,9 @@ module bsd_drain #(
         a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
         a_t16_q <= t_q;
-        b_ord_q  <= (a_t_q && a_f_q && host64[a_k_q]) || a_rep_q || a_hb_q;
-        b_rdone_q <= a_t_q && a_f_q && rflx64[a_k_q];
+        b_ord_q  <= (a_t_q && a_f_q && a_h) || a_rep_q || a_hb_q;
+        b_rdone_q <= a_t_q && a_f_q && a_x;
+        b_free_q  <= a_t_q && a_f_q && a_x && !a_h;
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
@@ -281,6 +303,7 @@ module bsd_drain #(
             b_hb_q        <= 1'b0;
             b_ord_q       <= 1'b0;
             b_rdone_q     <= 1'b0;
+            b_free_q      <= 1'b0;
             rflx_valid_q  <= 1'b0;
             rflx_id_q     <= 6'd0;
             rflx_data_q   <= 16'd0;
