@@ -75,8 +75,12 @@ module bsd_timeout_wheel #(
     // Running and not yet inserted: one vector, one mux.
     wire [63:0] want64   = pad(run_i & ~ins_q);
     wire        cand     = !stale3_q && win3_q && want64[scan3_q];
-    wire [NUM_TIMERS-1:0] scan3_bit;
+    // The scanned timer as a one-hot twice: alone (the write mask) and with
+    // the insert folded into its block decode (ins_q), so that each timer's
+    // bit of either is one gate with its other inputs, not a one-hot in between.
+    wire [NUM_TIMERS-1:0] scan3_bit, ins_bit;
     bsd_idx_onehot #(.N(NUM_TIMERS)) u_scan3_bit (.en_i(1'b1), .idx_i(scan3_q), .onehot_o(scan3_bit));
+    bsd_idx_onehot #(.N(NUM_TIMERS)) u_ins_bit (.en_i(insert), .idx_i(scan3_q), .onehot_o(ins_bit));
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
@@ -138,7 +142,7 @@ module bsd_timeout_wheel #(
         // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
-        ins_q    <= ((ins_q | (insert ? scan3_bit : NONE)) & ~start_i);
+        ins_q    <= ((ins_q | ins_bit) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
