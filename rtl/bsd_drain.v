@@ -96,7 +96,7 @@ module bsd_drain #(
 
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
-    // their r and f bits (r_q, f_q: only loaded, read where rem_q is set).
+    // their r and f bits (r_q, f_q: only loaded, read by stage A's index).
     reg [NT-1:0]       rem_q, r_q, f_q;
     reg                rep_q, dio_q, hb_q;
     reg [5:0]          dio_id_q;
@@ -187,13 +187,12 @@ module bsd_drain #(
     assign empty_o    = empty_q;
 
     // ---------------------------------------------------------- stage A, B
-    reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
+    reg        a_t_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
     reg [5:0]  a_dio_id_q, b_dio_id_q;
     reg        a_dio_val_q, b_dio_val_q;
     reg [15:0] a_t16_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
-    reg        a_f_q;
     // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
     function [63:0] pad(input [NT-1:0] v);
         begin
@@ -203,6 +202,13 @@ module bsd_drain #(
     endfunction
     wire [63:0] host64 = pad(run_host_i);
     wire [63:0] rflx64 = pad(run_rflx_i);
+    // The entry's r and f bits of stage A's timer: r_q and f_q still hold its
+    // entry (the next one loads on the clock after its last item at the
+    // earliest), so they are read by index here, not by the pick's one-hot.
+    wire [63:0] r64 = pad(r_q);
+    wire [63:0] f64 = pad(f_q);
+    wire        a_r   = r64[a_k_q];
+    wire        a_f   = f64[a_k_q];
     wire        a_h = host64[a_k_q];
     wire        a_x = rflx64[a_k_q];
     reg        b_tmo_q;
@@ -213,7 +219,7 @@ module bsd_drain #(
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     always @(posedge clk) begin
-        if (a_t_q && a_r_q && !a_f_q) ref_mem[a_k_q] <= a_t16_q;
+        if (a_t_q && a_r && !a_f) ref_mem[a_k_q] <= a_t16_q;
         ref_rd_q <= ref_mem[a_k_q];
     end
 
@@ -268,8 +274,6 @@ module bsd_drain #(
         empty_q <= next && !(ev_valid_i && ev_items);
         if (!next && !more) empty_q <= 1'b1;  // this clock takes the entry's last item
         a_t_q   <= take_t;
-        a_r_q <= |(r_q & low);
-        a_f_q <= |(f_q & low);
         a_dio_q <= take_dio;
         a_rep_q <= take_rep;
         a_hb_q  <= take_hb;
@@ -277,13 +281,13 @@ module bsd_drain #(
         a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
         a_t16_q <= t_q;
-        b_ord_q  <= (a_t_q && a_f_q && a_h) || a_rep_q || a_hb_q;
-        b_rdone_q <= a_t_q && a_f_q && a_x;
-        b_free_q  <= a_t_q && a_f_q && a_x && !a_h;
+        b_ord_q  <= (a_t_q && a_f && a_h) || a_rep_q || a_hb_q;
+        b_rdone_q <= a_t_q && a_f && a_x;
+        b_free_q  <= a_t_q && a_f && a_x && !a_h;
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
-        b_tmo_q  <= a_r_q;  // with a_f_q: a timeout
+        b_tmo_q  <= a_r;  // with a_f: a timeout
         b_k_q    <= a_k_q;
         b_id_q   <= a_id;
         b_dio_id_q  <= a_dio_id_q;
