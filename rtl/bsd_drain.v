@@ -189,9 +189,10 @@ module bsd_drain #(
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
-    reg [5:0]  a_dio_id_q, b_dio_id_q;
-    reg        a_dio_val_q, b_dio_val_q;
-    reg [15:0] a_t16_q;
+    // Stage A reads the entry's T and DIG_IO value from t_q, dio_id_q and
+    // dio_val_q: they hold the entry until the clock after its last item.
+    reg [5:0]  b_dio_id_q;
+    reg        b_dio_val_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
     // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
     function [63:0] pad(input [NT-1:0] v);
@@ -219,7 +220,7 @@ module bsd_drain #(
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     always @(posedge clk) begin
-        if (a_t_q && a_r && !a_f) ref_mem[a_k_q] <= a_t16_q;
+        if (a_t_q && a_r && !a_f) ref_mem[a_k_q] <= t_q;
         ref_rd_q <= ref_mem[a_k_q];
     end
 
@@ -277,10 +278,7 @@ module bsd_drain #(
         a_dio_q <= take_dio;
         a_rep_q <= take_rep;
         a_hb_q  <= take_hb;
-        a_dio_id_q  <= dio_id_q;
-        a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
-        a_t16_q <= t_q;
         b_ord_q  <= (a_t_q && a_f && a_h) || a_rep_q || a_hb_q;
         b_rdone_q <= a_t_q && a_f && a_x;
         b_free_q  <= a_t_q && a_f && a_x && !a_h;
@@ -290,9 +288,9 @@ module bsd_drain #(
         b_tmo_q  <= a_r;  // with a_f: a timeout
         b_k_q    <= a_k_q;
         b_id_q   <= a_id;
-        b_dio_id_q  <= a_dio_id_q;
-        b_dio_val_q <= a_dio_val_q;
-        b_t16_q  <= a_t16_q;
+        b_dio_id_q  <= dio_id_q;
+        b_dio_val_q <= dio_val_q;
+        b_t16_q  <= t_q;
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
         rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
