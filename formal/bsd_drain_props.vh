@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_drain (included at the end of the module under `ifdef FORMAL).
 // The event queue's head is assumed to obey AXI-Stream (an entry offered stays offered,
-// unchanged, until taken); entries, delivery flags and DIG_IO values are free.
+// unchanged, until taken); entries (their r and f bits valid or not: ev_timers_i), delivery
+// flags and DIG_IO values are free.
 // Asserted, the order of one entry (PROTOCOL.md §5, DESIGN.md decisions 1 and 9): one item
 // a clock; timers in ascending order; the DIG_IO value before the first timer whose ID is
 // above its own and after every timer whose ID is not; the reply after every timer and the
@@ -9,7 +10,7 @@
 // next entry is taken (nothing lost or repeated), and the next one taken on the clock after
 // the last item goes (an item every clock, and one idle clock between entries).
     reg                f_past_valid = 1'b0;
-    reg                f_rst_q, f_v_q, f_r_q;
+    reg                f_rst_q, f_v_q, f_r_q, f_t_q;
     reg [2*NT+25:0]    f_d_q;
     reg [3:0]          f_items, f_taken;
     reg                f_have_k, f_dio_done;
@@ -17,12 +18,12 @@
     integer            f_j2;
     wire [5:0]         k_id = CONTIG ? ID0 + k : IDS[6*k +: 6];  // the picked timer's ID
 
-    function [3:0] f_count(input [2*NT+25:0] e);
+    function [3:0] f_count(input [2*NT+25:0] e, input tv);
         integer f_j;
         begin
             f_count = {3'd0, e[25]} + {3'd0, e[24]} + {3'd0, e[23]};
             for (f_j = 0; f_j < NT; f_j = f_j + 1)
-                f_count = f_count + {3'd0, e[26 + f_j] | e[26 + NT + f_j]};
+                f_count = f_count + {3'd0, tv & (e[26 + f_j] | e[26 + NT + f_j])};
         end
     endfunction
 
@@ -34,6 +35,7 @@
         f_v_q   <= ev_valid_i;
         f_r_q   <= ev_ready_o;
         f_d_q   <= ev_data_i;
+        f_t_q   <= ev_timers_i;
         f_taken <= f_taken + {1'b0, f_takes};
         if (take_t) begin
             f_have_k <= 1'b1;
@@ -41,7 +43,7 @@
         end
         if (take_dio) f_dio_done <= 1'b1;
         if (next) begin
-            f_items    <= ev_valid_i ? f_count(ev_data_i) : 4'd0;
+            f_items    <= ev_valid_i ? f_count(ev_data_i, ev_timers_i) : 4'd0;
             f_taken    <= 4'd0;
             f_have_k   <= 1'b0;
             f_dio_done <= 1'b0;
@@ -56,18 +58,17 @@
 
     always @(*) begin
         if (!f_past_valid) assume(rst);
-        if (f_past_valid && !f_rst_q && f_v_q && !f_r_q) assume(ev_valid_i && ev_data_i == f_d_q);
+        if (f_past_valid && !f_rst_q && f_v_q && !f_r_q) assume(ev_valid_i && ev_data_i == f_d_q && ev_timers_i == f_t_q);
 
         if (f_past_valid && !rst && !f_rst_q) begin
             assert(f_takes <= 3'd1);
             if (more || any_t || dio_q || rep_q || hb_q) assert(f_takes == 3'd1);
             if (take_t && f_have_k) assert(k > f_last_k);
             if (take_t) assert(k < NT && low == ({{(NT-1){1'b0}}, 1'b1} << k));
-            // the DIG_IO value ranks by ID against the timers (before_q is loaded, and
-            // read, only with a value)
+            // the DIG_IO value ranks by ID against the timers (read only with a value)
             if (dio_q)
                 for (f_j2 = 0; f_j2 < NT; f_j2 = f_j2 + 1)
-                    assert(before_q[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
+                    assert(ranks[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
             if (take_t && dio_q) assert(!(dio_id_q < k_id));
             if (take_dio && f_have_k) assert(!(dio_id_q < IDS[6*f_last_k +: 6]));
             if (take_dio && any_t) assert(dio_id_q < k_id);

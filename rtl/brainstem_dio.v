@@ -416,8 +416,8 @@ module brainstem_dio #(
         .rflx_idx_i  (rflx_idx),
         .busy_o      (t_busy),
         .run_o       (timer_run),
-        .host_pend_o (timer_host_pend),
-        .rflx_pend_o (timer_rflx_pend),
+        .run_host_o  (timer_host_pend),
+        .run_rflx_o  (timer_rflx_pend),
         .ev_r_o      (ev_r),
         .ev_f_o      (ev_f),
         .ev_any_o    (ev_any),
@@ -499,8 +499,9 @@ module brainstem_dio #(
     wire [29:0] order_data;
 
     // A skipping entry has no timer event, and the drain reads T only for
-    // timer events: T needs no mux.
-    wire [EW-1:0] ev_data = {evq_valid ? evq_data[EW-1:16] : {{(EW-26){1'b0}}, ev_entry[25:16]},
+    // timer events: T needs no mux, and r and f none either (the drain masks
+    // them with ev_timers_i).
+    wire [EW-1:0] ev_data = {evq_data[EW-1:26], evq_valid ? evq_data[25:16] : ev_entry[25:16],
                              evq_data[15:0]};
 
     bsd_drain #(
@@ -513,10 +514,11 @@ module brainstem_dio #(
         .rst           (core_rst),
         .ev_valid_i    (evq_valid || (ev_new && ev_skip)),
         .ev_data_i     (ev_data),
+        .ev_timers_i   (evq_valid),
         .ev_ready_o    (drain_free),
         .empty_o       (drain_empty),
-        .host_pend_i   (timer_host_pend),
-        .rflx_pend_i   (timer_rflx_pend),
+        .run_host_i    (timer_host_pend),
+        .run_rflx_i    (timer_rflx_pend),
         .order_valid_o (order_valid),
         .order_data_o  (order_data),
         .rflx_done_o   (rflx_done),

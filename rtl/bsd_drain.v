@@ -36,16 +36,22 @@ module bsd_drain #(
     // the event queue's head
     input  wire                       ev_valid_i,
     input  wire [2*NT+25:0]           ev_data_i,    // {r, f, reply, dio, hb, dio ID, dio level, T}
+    // r and f are valid (the entry comes from the queue; one that skips it has
+    // no timer events and r and f are the queue's stale word): the drain masks
+    // them in the gates that load rem_q, so the top needs no gate per bit.
+    input  wire                       ev_timers_i,
     output wire                       ev_ready_o,
     output wire                       empty_o,      // no item left (a flop)
-    // the timers' delivery flags (bsd_timer_bank)
-    input  wire [NT-1:0]              host_pend_i,
-    input  wire [NT-1:0]              rflx_pend_i,
+    // each timer's run's HOST and RFLX bits (bsd_timer_bank)
+    input  wire [NT-1:0]              run_host_i,
+    input  wire [NT-1:0]              run_rflx_i,
     // to the transmitter's queue: {kind, timer, its device ID, result}
     output wire                       order_valid_o,
     output wire [29:0]                order_data_o,
     // RFLX
-    output wire                       rflx_done_o,  // a timer's strobe is given
+    // a timer without HOST is delivered: its strobe is given (with HOST the
+    // packet's last byte, always later, frees the timer: bsd_timer_bank)
+    output wire                       rflx_done_o,
     output wire [5:0]                 rflx_idx_o,
     output wire                       rflx_valid_o,
     output wire [5:0]                 rflx_id_o,
@@ -88,19 +94,9 @@ module bsd_drain #(
     localparam       CONTIG = contiguous(0);
     localparam [5:0] ID0    = IDS[5:0];
 
-    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
-    function [63:0] pad(input [NT-1:0] v);
-        begin
-            pad = 64'd0;
-            pad[NT-1:0] = v;
-        end
-    endfunction
-    wire [63:0] host64 = pad(host_pend_i);
-    wire [63:0] rflx64 = pad(rflx_pend_i);
-
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
-    // their r and f bits (r_q, f_q: only loaded, read where rem_q is set).
+    // their r and f bits (r_q, f_q: only loaded, read by stage A's index).
     reg [NT-1:0]       rem_q, r_q, f_q;
     reg                rep_q, dio_q, hb_q;
     reg [5:0]          dio_id_q;
@@ -116,26 +112,54 @@ module bsd_drain #(
     wire [5:0]          k;
     bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
-    // not above its own): the timers that do are worked out as the entry is
-    // taken (before_q), so the pick compares no IDs.
-    reg  [NT-1:0]       before_q;
-    // ID >= a constant, for every timer's ID, from three 8-way decodes of the
-    // value's ID (a 3-input gate per timer, no comparator per timer). The
-    // gates are evaluated only as an entry with a DIG_IO value is taken (a
-    // statement per timer in simulation, not on every clock).
-    wire [5:0]          dio_id_in = ev_data_i[22:17];
+    // not above its own). ID >= a constant, for every timer's ID, from three
+    // 8-way decodes of the value's ID (dio_id_q), each spread over the timers
+    // by constant masks (the timers whose ID has those high or low bits): a
+    // gate per timer with its rem bit after synthesis, no comparator and no
+    // flop per timer, so the pick compares no IDs; a few word operations in
+    // simulation.
+    // The timers whose ID's bits [5:3] (hi = 1) or [2:0] (hi = 0) are v, for
+    // v = 0..7 in NT-bit fields. Only localparam initializers call it.
+    /* verilator coverage_off */
+    function [8*NT-1:0] id_masks(input integer hi);
+        integer t;
+        reg [2:0] f;
+        begin
+            id_masks = {8*NT{1'b0}};
+            for (t = 0; t < NT; t = t + 1) begin
+                f = hi != 0 ? IDS[6*t+3 +: 3] : IDS[6*t +: 3];
+                id_masks[NT * {29'd0, f} + t] = 1'b1;
+            end
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [8*NT-1:0] HI_MASKS = id_masks(1);
+    localparam [8*NT-1:0] LO_MASKS = id_masks(0);
     wire [7:0]          hi_gt, hi_eq, lo_ge;
     genvar g;
     generate
         for (g = 0; g < 8; g = g + 1) begin : g_dec
             /* verilator lint_off UNSIGNED */
-            assign hi_gt[g] = dio_id_in[5:3] > g;
-            assign hi_eq[g] = dio_id_in[5:3] == g;
-            assign lo_ge[g] = dio_id_in[2:0] >= g;
+            assign hi_gt[g] = dio_id_q[5:3] > g;
+            assign hi_eq[g] = dio_id_q[5:3] == g;
+            assign lo_ge[g] = dio_id_q[2:0] >= g;
             /* verilator lint_on UNSIGNED */
         end
     endgenerate
-    wire                dio_first = dio_q && !(|(rem & before_q));
+    reg  [NT-1:0]       hi_gt_t, hi_eq_t, lo_ge_t;
+    integer             dv;
+    always @(*) begin
+        hi_gt_t = {NT{1'b0}};
+        hi_eq_t = {NT{1'b0}};
+        lo_ge_t = {NT{1'b0}};
+        for (dv = 0; dv < 8; dv = dv + 1) begin
+            hi_gt_t = hi_gt_t | ({NT{hi_gt[dv]}} & HI_MASKS[NT*dv +: NT]);
+            hi_eq_t = hi_eq_t | ({NT{hi_eq[dv]}} & HI_MASKS[NT*dv +: NT]);
+            lo_ge_t = lo_ge_t | ({NT{lo_ge[dv]}} & LO_MASKS[NT*dv +: NT]);
+        end
+    end
+    wire [NT-1:0]       ranks = hi_gt_t | (hi_eq_t & lo_ge_t);  // the timers whose ID is not above the value's
+    wire                dio_first = dio_q && !(|(rem & ranks));
     wire                take_t    = any_t && !dio_first;
     wire                take_dio  = dio_first;
     wire                take_rep  = !any_t && !dio_q && rep_q;
@@ -156,29 +180,38 @@ module bsd_drain #(
     reg                 empty_q;
     wire                next      = empty_q;
     wire [NT-1:0]       ev_rf     = ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT];
-    wire                ev_any_t  = |ev_rf;
+    wire                ev_t      = ev_valid_i && ev_timers_i;
+    wire                ev_any_t  = ev_t && |ev_rf;
     wire                ev_items  = ev_any_t || |ev_data_i[25:23];
     assign ev_ready_o = next;
     assign empty_o    = empty_q;
 
-    integer             bt;
-    always @(posedge clk) begin
-        // Read only while dio_q is set, which is loaded with it (and ev_valid_i).
-        if (next && ev_data_i[24]) begin
-            for (bt = 0; bt < NT; bt = bt + 1)
-                before_q[bt] <= hi_gt[IDS[6*bt+3 +: 3]] |
-                                (hi_eq[IDS[6*bt+3 +: 3]] & lo_ge[IDS[6*bt +: 3]]);
-        end
-    end
-
     // ---------------------------------------------------------- stage A, B
-    reg        a_t_q, a_r_q, a_dio_q, a_rep_q, a_hb_q;
+    reg        a_t_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
-    reg [5:0]  a_dio_id_q, b_dio_id_q;
-    reg        a_dio_val_q, b_dio_val_q;
-    reg [15:0] a_t16_q;
+    // Stage A reads the entry's T and DIG_IO value from t_q, dio_id_q and
+    // dio_val_q: they hold the entry until the clock after its last item.
+    reg [5:0]  b_dio_id_q;
+    reg        b_dio_val_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
-    reg        a_f_q;
+    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
+    function [63:0] pad(input [NT-1:0] v);
+        begin
+            pad = 64'd0;
+            pad[NT-1:0] = v;
+        end
+    endfunction
+    wire [63:0] host64 = pad(run_host_i);
+    wire [63:0] rflx64 = pad(run_rflx_i);
+    // The entry's r and f bits of stage A's timer: r_q and f_q still hold its
+    // entry (the next one loads on the clock after its last item at the
+    // earliest), so they are read by index here, not by the pick's one-hot.
+    wire [63:0] r64 = pad(r_q);
+    wire [63:0] f64 = pad(f_q);
+    wire        a_r   = r64[a_k_q];
+    wire        a_f   = f64[a_k_q];
+    wire        a_h = host64[a_k_q];
+    wire        a_x = rflx64[a_k_q];
     reg        b_tmo_q;
     reg [5:0]  b_k_q;
     reg [15:0] b_t16_q;
@@ -187,7 +220,7 @@ module bsd_drain #(
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     always @(posedge clk) begin
-        if (a_t_q && a_r_q && !a_f_q) ref_mem[a_k_q] <= a_t16_q;
+        if (a_t_q && a_r && !a_f) ref_mem[a_k_q] <= t_q;
         ref_rd_q <= ref_mem[a_k_q];
     end
 
@@ -203,10 +236,10 @@ module bsd_drain #(
     // b_rdone_q), so the transmitter's load and the timers' clears start at
     // a flop; the data come straight from stage B (the output queue, or the
     // transmitter when that is empty, registers it).
-    reg        b_ord_q, b_rdone_q;
+    reg        b_ord_q, b_rdone_q, b_free_q;
     assign order_valid_o = b_ord_q;
     assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
-    assign rflx_done_o   = b_rdone_q;
+    assign rflx_done_o   = b_free_q;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
     assign rflx_id_o     = rflx_id_q;
@@ -220,10 +253,10 @@ module bsd_drain #(
     always @(posedge clk) begin
         // The entry: loaded as the last one's last item goes, then one item a clock.
         if (next) begin
-            rem_q     <= ev_valid_i ? ev_rf : {NT{1'b0}};
+            rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
             r_q       <= ev_data_i[2*NT+25 -: NT];
             f_q       <= ev_data_i[NT+25 -: NT];
-            any_t_q   <= ev_valid_i && ev_any_t;
+            any_t_q   <= ev_any_t;
             rep_q     <= ev_valid_i && ev_data_i[25];
             dio_q     <= ev_valid_i && ev_data_i[24];
             hb_q      <= ev_valid_i && ev_data_i[23];
@@ -242,26 +275,22 @@ module bsd_drain #(
         empty_q <= next && !(ev_valid_i && ev_items);
         if (!next && !more) empty_q <= 1'b1;  // this clock takes the entry's last item
         a_t_q   <= take_t;
-        a_r_q <= |(r_q & low);
-        a_f_q <= |(f_q & low);
         a_dio_q <= take_dio;
         a_rep_q <= take_rep;
         a_hb_q  <= take_hb;
-        a_dio_id_q  <= dio_id_q;
-        a_dio_val_q <= dio_val_q;
         a_k_q   <= k;
-        a_t16_q <= t_q;
-        b_ord_q  <= (a_t_q && a_f_q && host64[a_k_q]) || a_rep_q || a_hb_q;
-        b_rdone_q <= a_t_q && a_f_q && rflx64[a_k_q];
+        b_ord_q  <= (a_t_q && a_f && a_h) || a_rep_q || a_hb_q;
+        b_rdone_q <= a_t_q && a_f && a_x;
+        b_free_q  <= a_t_q && a_f && a_x && !a_h;
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
-        b_tmo_q  <= a_r_q;  // with a_f_q: a timeout
+        b_tmo_q  <= a_r;  // with a_f: a timeout
         b_k_q    <= a_k_q;
         b_id_q   <= a_id;
-        b_dio_id_q  <= a_dio_id_q;
-        b_dio_val_q <= a_dio_val_q;
-        b_t16_q  <= a_t16_q;
+        b_dio_id_q  <= dio_id_q;
+        b_dio_val_q <= dio_val_q;
+        b_t16_q  <= t_q;
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
         rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
@@ -281,6 +310,7 @@ module bsd_drain #(
             b_hb_q        <= 1'b0;
             b_ord_q       <= 1'b0;
             b_rdone_q     <= 1'b0;
+            b_free_q      <= 1'b0;
             rflx_valid_q  <= 1'b0;
             rflx_id_q     <= 6'd0;
             rflx_data_q   <= 16'd0;

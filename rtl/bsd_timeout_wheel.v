@@ -75,20 +75,20 @@ module bsd_timeout_wheel #(
     // Running and not yet inserted: one vector, one mux.
     wire [63:0] want64   = pad(run_i & ~ins_q);
     wire        cand     = !stale3_q && win3_q && want64[scan3_q];
-    wire [NUM_TIMERS-1:0] scan3_bit;
-    bsd_idx_onehot #(.N(NUM_TIMERS)) u_scan3_bit (.en_i(1'b1), .idx_i(scan3_q), .onehot_o(scan3_bit));
+    // The timer inserted now as a one-hot, the insert folded into its block
+    // decode, so that each timer's ins_q bit is one gate.
+    wire [NUM_TIMERS-1:0] ins_bit;
+    bsd_idx_onehot #(.N(NUM_TIMERS)) u_ins_bit (.en_i(insert), .idx_i(scan3_q), .onehot_o(ins_bit));
 
     always @(posedge clk) begin
         if (advance) st_rd_q <= st_mem[scan_q];
     end
 
     // ---------------------------------------------------------------- wheel
-    (* no_rw_check *)  // the slot read is never the one written (see in_win)
-    reg [NUM_TIMERS-1:0] wheel [0:63];
     // The slot read: the timers whose timeout is the next tick (with ins_q).
-    // It is the RAM's read register and is used straight from it, until the
-    // next read (a clock after the next tick): no copy per timer.
-    reg [NUM_TIMERS-1:0] expire_q;
+    // It is the RAMs' read registers and is used straight from them, until
+    // the next read (a clock after the next tick): no copy per timer.
+    wire [NUM_TIMERS-1:0] expire_q;
     reg                tick1_q;   // the clock after a tick: read the next slot
     reg                tick2_q;   // the clock after that: clear it
     reg [5:0]          slot_q;    // the slot read
@@ -103,19 +103,33 @@ module bsd_timeout_wheel #(
     wire                clear  = tick2_q;
     wire                insert = cand && !clear;
     assign              advance = !(cand && clear);
-    wire                w_en   = clear || insert;
     wire [5:0]          w_addr = clear ? slot_q : slot3_q;
-    wire [NUM_TIMERS-1:0] w_mask = clear ? {NUM_TIMERS{1'b1}} : scan3_bit;
     wire                w_bit  = !clear;
-
-    integer b;
-    always @(posedge clk) begin
-        if (w_en) begin
-            for (b = 0; b < NUM_TIMERS; b = b + 1)
-                if (w_mask[b]) wheel[w_addr][b] <= w_bit;
+    // The wheel as one RAM per 16 timers (a block RAM's width): an insert
+    // writes only its timer's RAM (its write enable) through a bit mask that
+    // every RAM shares (16 gates, not one per timer).
+    wire [15:0]         w_mask = clear ? 16'hFFFF : 16'd1 << scan3_q[3:0];
+    genvar g;
+    generate
+        for (g = 0; g < (NUM_TIMERS + 15) / 16; g = g + 1) begin : g_wheel
+            localparam integer GW = NUM_TIMERS - 16 * g < 16 ? NUM_TIMERS - 16 * g : 16;
+            (* no_rw_check *)  // the slot read is never the one written (see in_win)
+            reg [GW-1:0] wheel [0:63];
+            reg [GW-1:0] rd_q;
+            /* verilator lint_off WIDTHEXPAND */
+            wire         w_en_g = clear || (insert && scan3_q[5:4] == g);
+            /* verilator lint_on WIDTHEXPAND */
+            integer      b;
+            always @(posedge clk) begin
+                if (w_en_g) begin
+                    for (b = 0; b < GW; b = b + 1)
+                        if (w_mask[b]) wheel[w_addr][b] <= w_bit;
+                end
+                if (tick1_q) rd_q <= wheel[slot_q];
+            end
+            assign expire_q[16 * g +: GW] = rd_q;
         end
-        if (tick1_q) expire_q <= wheel[slot_q];
-    end
+    endgenerate
 
     // A start after the slot was read drops the timer's bit (a new run). A
     // bit left in the slot by an earlier run never meets a new insertion: a
@@ -138,7 +152,7 @@ module bsd_timeout_wheel #(
         // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
-        ins_q    <= ((ins_q | (insert ? scan3_bit : NONE)) & ~start_i);
+        ins_q    <= ((ins_q | ins_bit) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;

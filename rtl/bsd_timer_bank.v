@@ -18,8 +18,14 @@
 // timer keeps a timed-out flag. Only timers whose result goes
 // somewhere (HOST or RFLX) make events: one with neither is free again when
 // it finishes. A timer is busy from its start until its result has been
-// delivered: host_pend (cleared by host_done_i, the packet's last byte) and
-// rflx_pend (cleared by rflx_done_i, its strobe).
+// delivered: one flag per timer (pend, result owed) is cleared by
+// host_done_i (the packet's last byte) or rflx_done_i (the strobe of a
+// result without HOST: bsd_drain names only those, as with both bits the
+// strobe always comes before the packet's last byte). So one flag and one
+// gate on two 8-way decodes per timer replace a flag and a 64-way decoder
+// per delivery; the run's HOST and RFLX bits (run_host_o, run_rflx_o, read
+// by the drain at a finish) are only loaded at a start (a flop with an
+// enable, no gate).
 //
 // Width mode is edge mode twice: a pulse's beginning is an edge to the
 // target, after which the target is inverted, so its end is an edge to the
@@ -44,8 +50,8 @@ module bsd_timer_bank #(
     input  wire [5:0]          rflx_idx_i,
     output wire [NUM_TIMERS-1:0] busy_o,
     output wire [NUM_TIMERS-1:0] run_o,
-    output wire [NUM_TIMERS-1:0] host_pend_o,
-    output wire [NUM_TIMERS-1:0] rflx_pend_o,
+    output wire [NUM_TIMERS-1:0] run_host_o,   // the HOST and RFLX bits of each timer's
+    output wire [NUM_TIMERS-1:0] run_rflx_o,   // last start (valid from it on)
     output wire [NUM_TIMERS-1:0] ev_r_o,
     output wire [NUM_TIMERS-1:0] ev_f_o,
     output wire                ev_any_o,
@@ -58,8 +64,9 @@ module bsd_timer_bank #(
     reg [NUM_TIMERS-1:0] target_q;   // the level waited for (inverted as a pulse begins)
     reg [NUM_TIMERS-1:0] wait_pb_q;  // width mode: the pulse is still to begin
     reg [NUM_TIMERS-1:0] prev_q;     // the level of the previous clock
-    reg [NUM_TIMERS-1:0] host_q;     // the result packet is still to leave
-    reg [NUM_TIMERS-1:0] rflx_q;     // the result strobe is still to come
+    reg [NUM_TIMERS-1:0] pend_q;     // the result is still to be delivered (HOST or RFLX)
+    reg [NUM_TIMERS-1:0] host_q;     // the last start's HOST bit
+    reg [NUM_TIMERS-1:0] rflx_q;     // and its RFLX bit
     reg [NUM_TIMERS-1:0] ev_r_q, ev_f_q;
     reg                ev_any_q;
 
@@ -71,24 +78,42 @@ module bsd_timer_bank #(
     wire [NUM_TIMERS-1:0] timeout  = {NUM_TIMERS{tick_i}} & expire_i & run_q;
     wire [NUM_TIMERS-1:0] finish   = complete | timeout;
     wire [NUM_TIMERS-1:0] start    = start_i;
-    wire [NUM_TIMERS-1:0] deliver  = host_q | rflx_q;
+    // pend_q is set only by a start with HOST or RFLX and cleared only after
+    // the run has ended, so while a timer runs it says whether it delivers.
+    wire [NUM_TIMERS-1:0] deliver  = pend_q;
+    // The two deliveries' clears, ORed per timer.
     wire [NUM_TIMERS-1:0] host_clr, rflx_clr;
     bsd_idx_onehot #(.N(NUM_TIMERS)) u_host_clr (.en_i(host_done_i), .idx_i(host_idx_i), .onehot_o(host_clr));
     bsd_idx_onehot #(.N(NUM_TIMERS)) u_rflx_clr (.en_i(rflx_done_i), .idx_i(rflx_idx_i), .onehot_o(rflx_clr));
+    wire [NUM_TIMERS-1:0] clr = host_clr | rflx_clr;
     // A completion on the timeout clock wins; a pulse that begins on it has
     // no result (a timeout's event is r and f together).
     wire [NUM_TIMERS-1:0] ev_r_d   = ((start & ~mode_i & {NUM_TIMERS{host_i || rflx_i}}) |
                                     (deliver & (pulse_begin | (timeout & ~complete))));
     wire [NUM_TIMERS-1:0] ev_f_d   = finish & deliver;
 
-    assign busy_o      = run_q | host_q | rflx_q;
+    assign busy_o      = run_q | pend_q;
     assign run_o       = run_q;
-    assign host_pend_o = host_q;
-    assign rflx_pend_o = rflx_q;
+    assign run_host_o  = host_q;
+    assign run_rflx_o  = rflx_q;
     assign ev_r_o      = ev_r_q;
     assign ev_f_o      = ev_f_q;
     assign ev_any_o    = ev_any_q;
     assign t_o         = t_q;
+
+    // A flop with an enable per timer (the start), no gate: a mux per bit,
+    // so that synthesis sees the enable; simulated only on a start's clock.
+    integer b;
+    always @(posedge clk) begin
+        if (|start) begin
+            for (b = 0; b < NUM_TIMERS; b = b + 1) begin
+                if (start[b]) begin
+                    host_q[b] <= host_i;
+                    rflx_q[b] <= rflx_i;
+                end
+            end
+        end
+    end
 
     always @(posedge clk) begin
         t_q        <= t_q + {15'd0, tick_i};
@@ -96,16 +121,14 @@ module bsd_timer_bank #(
         run_q      <= ((run_q & ~finish) | start);
         target_q   <= ((target_q ^ pulse_begin) & ~start) | (target_i & start);
         wait_pb_q  <= ((wait_pb_q & ~pulse_begin) & ~start) | (mode_i & start);
-        host_q     <= ((host_q & ~host_clr) | (start & {NUM_TIMERS{host_i}}));
-        rflx_q     <= ((rflx_q & ~rflx_clr) | (start & {NUM_TIMERS{rflx_i}}));
+        pend_q     <= ((pend_q & ~clr) | (start & {NUM_TIMERS{host_i || rflx_i}}));
         ev_r_q     <= ev_r_d;
         ev_f_q     <= ev_f_d;
         ev_any_q   <= |(ev_r_d | ev_f_d);
         if (rst) begin
             t_q        <= 16'd0;
             run_q      <= NONE;
-            host_q     <= NONE;
-            rflx_q     <= NONE;
+            pend_q     <= NONE;
             ev_r_q     <= NONE;
             ev_f_q     <= NONE;
             ev_any_q   <= 1'b0;

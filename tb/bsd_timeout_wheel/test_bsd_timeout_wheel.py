@@ -22,7 +22,10 @@ from runner import hdl_params
 # t12: a scanner lap of 12 clocks, a multiple of the 3-clock tick period, so the same timers
 # meet the slot-clearing clock on every lap (an insert that lost the write port must wait).
 # t12-deep: the same build, for the runs make test leaves to make test-full.
-BUILDS = {"t4": {"NUM_TIMERS": 4}, "t12": {"NUM_TIMERS": 12}, "t12-deep": {"NUM_TIMERS": 12}}
+# t40: three of the wheel's 16-timer RAMs, the last one 8 wide (an insert writes only its
+# timer's RAM).
+BUILDS = {"t4": {"NUM_TIMERS": 4}, "t12": {"NUM_TIMERS": 12}, "t12-deep": {"NUM_TIMERS": 12},
+          "t40": {"NUM_TIMERS": 40}}
 TIMEOUT = 65535
 
 
