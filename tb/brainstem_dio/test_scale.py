@@ -34,7 +34,7 @@ from bsd_model import (
 )
 from bsd_tb import TBError
 from top_builds import BUILDS
-from top_helpers import A, P, check_result, configure, finish_timers, need, setup, timer_value
+from top_helpers import A, P, check_result, configure, finish_timers, need, set_pins_checked, setup, timer_value
 import runner
 
 ALL = (1 << P.num_pins) - 1
@@ -379,14 +379,13 @@ async def test_64_timeouts_then_restart(dut) -> None:
 @cocotb.test(skip=not runner.on("t64_2"))
 async def test_every_pin_output_and_latch(dut) -> None:
     """Each of the 64 pins in turn: an output driven 1 then 0 (pin_o and pin_oe against the
-    model after each command), then an input with its latch armed for
-    rising edges, fired by its own pad (raw_trans against the model), then a plain input
-    again; last, RFLX reads of pins 63 and 0 (a DIG_IO value ranked after every timer ID,
-    then before all but ID 0). Deterministic, so every pin's configuration bits, output
-    latch and raw_trans, and the drain's timer-before-value bits, toggle whatever the seed
+    model after each command), then an input with its latch armed for rising edges, fired by
+    its own pad (raw_trans against the model), then a plain input again; last, RFLX reads of
+    pins whose IDs take every value of each 3-bit half (the drain ranks a DIG_IO value
+    against the timer IDs by halves). Deterministic, so every pin's configuration bits,
+    output latch and raw_trans, and the drain's ranking bits, toggle whatever the seed
     (the other tests here use the pins only as timer inputs)."""
     from bsd_model import CMD_DIG_IO, DIGCFG_ENA, DIGCFG_TRG
-    from top_helpers import set_pins_checked
     tb, m = await setup(dut, pins=0)
     free = P.free_pins
     need(len(free) == 64, "64 configurable pins")
@@ -405,9 +404,42 @@ async def test_every_pin_output_and_latch(dut) -> None:
         await configure(tb, m, pin, DIGCFG_IODIR)
     await set_pins_checked(tb, m, 1 << 63)
     n_rflx = len(tb.rflx)
-    for pin in (63, 0, 63, 0):                             # the strobes checked by tb.command
+    # IDs 0, 9, 18, .., 63 and back to 0: each value of the ID's bits 5:3 and 2:0 in turn
+    # (the drain ranks a DIG_IO value against the timer IDs by those halves)
+    ids = [9 * k for k in range(8)] + [0, 63, 0]
+    for pin in ids:                                        # the strobes checked by tb.command
         await tb.command(m, packet(A, CMD_DIG_IO, DEVCODE_RFLX | pin))
-    assert len(tb.rflx) == n_rflx + 4, tb.rflx[n_rflx:]
+    assert len(tb.rflx) == n_rflx + len(ids), tb.rflx[n_rflx:]
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=not runner.on("t64_2"))
+async def test_every_timer_host_alone_then_rflx_alone(dut) -> None:
+    """All 64 timers run with HOST alone, then RFLX alone, then both, each round completed
+    together: every result goes where its start's DEVCODE sends it (packets, strobes, or
+    both), checked against the model. The other tests start timers with both bits, so here
+    each timer's HOST and RFLX bits are set and cleared whatever the seed."""
+    need(P.timer_mask == ALL, "a timer on every pin")
+    tb, m = await setup(dut, pins=0)
+    for flags in (DEVCODE_HOST, DEVCODE_RFLX, FLAGS):
+        await set_pins_checked(tb, m, 0)
+        starts = await start_all(tb, m, DIGCFG_IODIR | DIGCFG_TSTATE, flags)  # edge mode, to 1
+        n_rflx = len(tb.rflx)
+        tb.set_pins(ALL)
+        t_pad = tb.now_s()
+        await tb.cycles(400)
+        results = {}
+        for pin in range(P.num_pins):
+            got = timer_value(tb, m, pin)
+            if got is None:
+                raise TBError(f"DEVCODE {flags:#x}, pin {pin}: no result")
+            check_result(pin, got, t_pad - starts[pin])
+            results[pin] = got
+        exp = m.timers_complete(results)
+        m.set_pins(ALL)
+        got = await tb.expect(exp, what=f"DEVCODE {flags:#x}: 64 results")
+        assert len(got) == (64 if flags & DEVCODE_HOST else 0), len(got)
+        assert len(tb.rflx) - n_rflx == (64 if flags & DEVCODE_RFLX else 0), len(tb.rflx) - n_rflx
     tb.check_no_errors()
 
 
