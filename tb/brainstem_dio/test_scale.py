@@ -62,6 +62,19 @@ async def start_all(tb, m, cfg: int, flags: int = FLAGS) -> dict[int, float]:
     return starts
 
 
+def all_results(tb, m, starts: dict[int, float], t_pad: float, what: str = "") -> dict[int, int]:
+    """Every timer's result (a packet or a strobe), each checked against its interval from
+    its start to the pad edge at t_pad."""
+    results = {}
+    for pin in range(P.num_pins):
+        got = timer_value(tb, m, pin)
+        if got is None:
+            raise TBError(f"{what}pin {pin}: no result")
+        check_result(pin, got, t_pad - starts[pin])
+        results[pin] = got
+    return results
+
+
 @cocotb.test(skip=not runner.on("t64_2", "t64_48"))
 async def test_64_completions_and_reply_one_clock(dut) -> None:
     """All 64 timers complete on the clock a DIG_CFG query executes: 64 results by ascending
@@ -76,14 +89,7 @@ async def test_64_completions_and_reply_one_clock(dut) -> None:
     t_pad = tb.now_s()
     await tb.source.wait_sent(sent)
     await tb.cycles(400)
-    results = {}
-    for pin in range(P.num_pins):
-        got = timer_value(tb, m, pin)
-        if got is None:
-            raise TBError(f"pin {pin}: no result")
-        check_result(pin, got, t_pad - starts[pin])
-        results[pin] = got
-    exp = m.timers_complete(results)
+    exp = m.timers_complete(all_results(tb, m, starts, t_pad))
     exp.extend(m.feed(query))
     m.set_pins(ALL)
     got = await tb.expect(exp, what="64 results, then the reply")
@@ -428,14 +434,7 @@ async def test_every_timer_host_alone_then_rflx_alone(dut) -> None:
         tb.set_pins(ALL)
         t_pad = tb.now_s()
         await tb.cycles(400)
-        results = {}
-        for pin in range(P.num_pins):
-            got = timer_value(tb, m, pin)
-            if got is None:
-                raise TBError(f"DEVCODE {flags:#x}, pin {pin}: no result")
-            check_result(pin, got, t_pad - starts[pin])
-            results[pin] = got
-        exp = m.timers_complete(results)
+        exp = m.timers_complete(all_results(tb, m, starts, t_pad, f"DEVCODE {flags:#x}, "))
         m.set_pins(ALL)
         got = await tb.expect(exp, what=f"DEVCODE {flags:#x}: 64 results")
         assert len(got) == (64 if flags & DEVCODE_HOST else 0), len(got)
