@@ -103,14 +103,25 @@ module bsd_drain #(
     reg                dio_val_q;
     reg [15:0]         t_q;
 
-    wire [NT-1:0]       rem    = rem_q;
     // "A timer is left" as a flop (any_t_q), so the reply's and heartbeat's
     // picks and enables do not wait for an OR over the timers.
     reg                 any_t_q;
     wire                any_t  = any_t_q;
-    wire [NT-1:0]       low    = rem & (~rem + {{(NT-1){1'b0}}, 1'b1});
-    wire [5:0]          k;
-    bsd_onehot_idx #(.N(NT)) u_k (.onehot_i(low), .idx_o(k));
+    // The pick is functions of the entry's flops called in the clocked block
+    // on a clock with an item (not next), not wires: a simulator then works
+    // it out only there, not on every clock (synthesis: the same gates).
+    function [NT-1:0] lowest(input [NT-1:0] v);
+        lowest = v & (~v + {{(NT-1){1'b0}}, 1'b1});
+    endfunction
+    // The index of a one-hot timer vector (bsd_onehot_idx's OR per index bit).
+    function [5:0] index_of(input [NT-1:0] oh);
+        integer t;
+        begin
+            index_of = 6'd0;
+            for (t = 0; t < NT; t = t + 1)
+                if (oh[t]) index_of = index_of | t[5:0];
+        end
+    endfunction
     // The DIG_IO value goes first when no waiting timer ranks before it (an ID
     // not above its own). ID >= a constant, for every timer's ID, from three
     // 8-way decodes of the value's ID (dio_id_q), each spread over the timers
@@ -135,42 +146,55 @@ module bsd_drain #(
     /* verilator coverage_on */
     localparam [8*NT-1:0] HI_MASKS = id_masks(1);
     localparam [8*NT-1:0] LO_MASKS = id_masks(0);
-    wire [7:0]          hi_gt, hi_eq, lo_ge;
-    genvar g;
-    generate
-        for (g = 0; g < 8; g = g + 1) begin : g_dec
-            /* verilator lint_off UNSIGNED */
-            assign hi_gt[g] = dio_id_q[5:3] > g;
-            assign hi_eq[g] = dio_id_q[5:3] == g;
-            assign lo_ge[g] = dio_id_q[2:0] >= g;
-            /* verilator lint_on UNSIGNED */
+    // The timers whose ID is not above id.
+    function [NT-1:0] ranks_of(input [5:0] id);
+        integer dv;
+        reg [NT-1:0] hi_gt_t, hi_eq_t, lo_ge_t;
+        begin
+            hi_gt_t = {NT{1'b0}};
+            hi_eq_t = {NT{1'b0}};
+            lo_ge_t = {NT{1'b0}};
+            for (dv = 0; dv < 8; dv = dv + 1) begin
+                hi_gt_t = hi_gt_t | ({NT{id[5:3] > dv[2:0]}} & HI_MASKS[NT*dv +: NT]);
+                hi_eq_t = hi_eq_t | ({NT{id[5:3] == dv[2:0]}} & HI_MASKS[NT*dv +: NT]);
+                lo_ge_t = lo_ge_t | ({NT{id[2:0] >= dv[2:0]}} & LO_MASKS[NT*dv +: NT]);
+            end
+            ranks_of = hi_gt_t | (hi_eq_t & lo_ge_t);
         end
-    endgenerate
-    reg  [NT-1:0]       hi_gt_t, hi_eq_t, lo_ge_t;
-    integer             dv;
-    always @(*) begin
-        hi_gt_t = {NT{1'b0}};
-        hi_eq_t = {NT{1'b0}};
-        lo_ge_t = {NT{1'b0}};
-        for (dv = 0; dv < 8; dv = dv + 1) begin
-            hi_gt_t = hi_gt_t | ({NT{hi_gt[dv]}} & HI_MASKS[NT*dv +: NT]);
-            hi_eq_t = hi_eq_t | ({NT{hi_eq[dv]}} & HI_MASKS[NT*dv +: NT]);
-            lo_ge_t = lo_ge_t | ({NT{lo_ge[dv]}} & LO_MASKS[NT*dv +: NT]);
+    endfunction
+    // A clock with an item (not next): {rem_q, any_t_q, dio_q, rep_q, hb_q}
+    // after it, "no item left" after it (empty_q: the entry had one), and
+    // stage A's {a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q}. Items left after
+    // this clock's: the entry has two or more; "two timers or more" is "a
+    // timer beside the lowest" (the bits the pick leaves), which ends at
+    // flops only (empty_q, any_t_q), so the pick's carry chain may feed it.
+    function [NT+14:0] step(input [NT-1:0] r);
+        reg [NT-1:0] low;
+        reg dio_first, two_t, take_t, more;
+        begin
+            low       = lowest(r);
+            dio_first = dio_q && !(|(r & ranks_of(dio_id_q)));
+            two_t     = |(r & ~low);
+            take_t    = any_t && !dio_first;
+            more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
+                        (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
+            step = {take_t ? r & ~low : r, take_t ? two_t : any_t,
+                    dio_q && !dio_first, rep_q && (any_t || dio_q), hb_q && (any_t || dio_q || rep_q),
+                    !more,
+                    take_t, dio_first, !any_t && !dio_q && rep_q, !any_t && !dio_q && !rep_q && hb_q,
+                    index_of(low)};
         end
-    end
-    wire [NT-1:0]       ranks = hi_gt_t | (hi_eq_t & lo_ge_t);  // the timers whose ID is not above the value's
-    wire                dio_first = dio_q && !(|(rem & ranks));
-    wire                take_t    = any_t && !dio_first;
-    wire                take_dio  = dio_first;
-    wire                take_rep  = !any_t && !dio_q && rep_q;
-    wire                take_hb   = !any_t && !dio_q && !rep_q && hb_q;
-    // Items left after this clock's (a clock with an item takes exactly one):
-    // the entry has two or more. "Two timers or more" is "a timer beside the
-    // lowest" (the bits the pick leaves), which ends at flops only (empty_q,
-    // any_t_q), so the pick's carry chain may feed it.
-    wire                two_t     = |(rem & ~low);
-    wire                more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
-                                    (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
+    endfunction
+`ifdef FORMAL
+    wire [NT-1:0]       rem    = rem_q;
+    wire [NT-1:0]       low    = lowest(rem);
+    wire [NT-1:0]       ranks  = ranks_of(dio_id_q);
+    wire [NT+3:0]       f_unused_next;
+    wire                f_last, take_t, take_dio, take_rep, take_hb;
+    wire [5:0]          k;
+    assign {f_unused_next, f_last, take_t, take_dio, take_rep, take_hb, k} = step(rem);
+    wire                more   = !f_last;
+`endif
     // "No item left" as a flop of its own (not the OR of the entry's bits):
     // the next entry is taken when it is set, the clock after the last item
     // (one idle clock between entries), so the queue's read enable and the
@@ -201,17 +225,18 @@ module bsd_drain #(
             pad[NT-1:0] = v;
         end
     endfunction
-    wire [63:0] host64 = pad(run_host_i);
-    wire [63:0] rflx64 = pad(run_rflx_i);
-    // The entry's r and f bits of stage A's timer: r_q and f_q still hold its
-    // entry (the next one loads on the clock after its last item at the
-    // earliest), so they are read by index here, not by the pick's one-hot.
-    wire [63:0] r64 = pad(r_q);
-    wire [63:0] f64 = pad(f_q);
-    wire        a_r   = r64[a_k_q];
-    wire        a_f   = f64[a_k_q];
-    wire        a_h = host64[a_k_q];
-    wire        a_x = rflx64[a_k_q];
+    // Stage A's timer's bit of a timer vector: the entry's r and f bits
+    // (r_q and f_q still hold its entry: the next one loads on the clock
+    // after its last item at the earliest) and the run's HOST and RFLX bits,
+    // read by index, not by the pick's one-hot. Called only on a timer's
+    // clock in stage A (a_t_q), so a simulator reads them only then.
+    function at(input [NT-1:0] v);
+        reg [63:0] w;
+        begin
+            w  = pad(v);
+            at = w[a_k_q];
+        end
+    endfunction
     reg        b_tmo_q;
     reg [5:0]  b_k_q;
     reg [15:0] b_t16_q;
@@ -220,8 +245,10 @@ module bsd_drain #(
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     always @(posedge clk) begin
-        if (a_t_q && a_r && !a_f) ref_mem[a_k_q] <= t_q;
-        ref_rd_q <= ref_mem[a_k_q];
+        if (a_t_q) begin
+            if (at(r_q) && !at(f_q)) ref_mem[a_k_q] <= t_q;
+            ref_rd_q <= ref_mem[a_k_q];
+        end
     end
 
     wire [15:0] diff   = b_t16_q - ref_rd_q;
@@ -263,37 +290,39 @@ module bsd_drain #(
             dio_id_q  <= ev_data_i[22:17];
             dio_val_q <= ev_data_i[16];
             t_q       <= ev_data_i[15:0];
+            empty_q   <= !(ev_valid_i && ev_items);
+            // (no item: rem_q is 0, so the pick's index was 0)
+            {a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= 10'd0;
         end else begin
-            if (take_t) begin
-                rem_q <= rem_q & ~low;
-                any_t_q <= two_t;
-            end
-            if (take_dio) dio_q <= 1'b0;
-            if (take_rep) rep_q <= 1'b0;
-            if (take_hb) hb_q <= 1'b0;
+            {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step(rem_q);
         end
-        empty_q <= next && !(ev_valid_i && ev_items);
-        if (!next && !more) empty_q <= 1'b1;  // this clock takes the entry's last item
-        a_t_q   <= take_t;
-        a_dio_q <= take_dio;
-        a_rep_q <= take_rep;
-        a_hb_q  <= take_hb;
-        a_k_q   <= k;
-        b_ord_q  <= (a_t_q && a_f && a_h) || a_rep_q || a_hb_q;
-        b_rdone_q <= a_t_q && a_f && a_x;
-        b_free_q  <= a_t_q && a_f && a_x && !a_h;
+        // Stage B's data are loaded only with an item of their kind (order_data_o
+        // and rflx_idx_o are read only with their valid flags).
+        if (a_t_q) begin
+            b_ord_q   <= at(f_q) && at(run_host_i);
+            b_rdone_q <= at(f_q) && at(run_rflx_i);
+            b_free_q  <= at(f_q) && at(run_rflx_i) && !at(run_host_i);
+            b_tmo_q   <= at(r_q);  // with a f bit: a timeout
+            b_k_q     <= a_k_q;
+            b_id_q    <= a_id;
+            b_t16_q   <= t_q;
+        end else begin
+            b_ord_q   <= a_rep_q || a_hb_q;
+            b_rdone_q <= 1'b0;
+            b_free_q  <= 1'b0;
+        end
+        if (a_dio_q) begin
+            b_dio_id_q  <= dio_id_q;
+            b_dio_val_q <= dio_val_q;
+        end
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
-        b_tmo_q  <= a_r;  // with a_f: a timeout
-        b_k_q    <= a_k_q;
-        b_id_q   <= a_id;
-        b_dio_id_q  <= dio_id_q;
-        b_dio_val_q <= dio_val_q;
-        b_t16_q  <= t_q;
         rflx_valid_q  <= b_rdone_q || b_dio_q;
-        rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
-        rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
+        if (b_rdone_q || b_dio_q) begin
+            rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
+            rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
+        end
         if (rst) begin
             rem_q         <= {NT{1'b0}};
             rep_q         <= 1'b0;
