@@ -10,7 +10,8 @@
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
 // clock after each packet (s2_valid_o, exactly then, never two clocks in a row) the
 // state-change strobes (cfg_we_o, out_we_o, rearm_o, timer_start_o, hb_answer_o) are the
-// reference's, with their pin (pin_sel_o, one-hot), data and delivery bits; the reply (reply_o, N, the bytes up to
+// reference's, with their pin (pin_sel_o, one-hot), data and delivery bits (and the timer's
+// number, timer_idx_o, with timer_go_o set exactly with a start); the reply (reply_o, N, the bytes up to
 // N, the echo's tail) and dio_rflx_o (with the pin's device ID and level) are the
 // reference's; on every other clock no strobe, no reply, no RFLX value: one decision per
 // packet, each strobe one clock long. pin_sel_o, rearm_o and timer_start_o are one-hot or zero.
@@ -48,6 +49,15 @@
 
     // The reference decision for the packet captured (meaningful with f_s2).
     wire [5:0] f_dp     = f_d1[5:0];             // a DEVCODE's pin
+    // The DEVCODE pin's timer number: the timers on the pins below it.
+    reg [6:0] f_tnum;
+    integer   f_t;
+    always @(*) begin
+        f_tnum = 7'd0;
+        for (f_t = 0; f_t < NUM_PINS; f_t = f_t + 1)
+            if (TIMER_MASK[f_t] && f_t < f_dp) f_tnum = f_tnum + 7'd1;
+    end
+
     wire       f_cmd    = f_kind == KIND_CMD;
     wire       f_pin_ok = f_d1 < NUM_PINS;       // a whole `pin` byte
     wire       f_dev_ok = f_dp < NUM_PINS;
@@ -135,6 +145,7 @@
             assert(s2_valid_o == f_s2);
             if (s2_valid_o) assert(!f_s2_q);
             assert((timer_start_o & (timer_start_o - 1'b1)) == {NUM_PINS{1'b0}});
+            assert(timer_go_o == (timer_start_o != {NUM_PINS{1'b0}}));
             assert((pin_sel_o & (pin_sel_o - 1'b1)) == {NUM_PINS{1'b0}});
             assert((rearm_o & (rearm_o - 1'b1)) == {NUM_PINS{1'b0}});
             if (!f_s2) begin
@@ -151,7 +162,7 @@
                     assert(timer_start_o[f_i] == (f_w_time && f_dp == f_i));
                 end
                 if (timer_start_o != {NUM_PINS{1'b0}})
-                    assert(timer_host_o == f_d1[7] && timer_rflx_o == f_d1[6]);
+                    assert(timer_host_o == f_d1[7] && timer_rflx_o == f_d1[6] && timer_idx_o == f_tnum);
                 assert(hb_answer_o == f_hb_ans);
                 assert(soft_reset_o == f_reset);
                 if (hb_answer_o) assert(hb_answer_down_o == f_d1[0]);

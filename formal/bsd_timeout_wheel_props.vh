@@ -2,7 +2,8 @@
 // Formal properties of bsd_timeout_wheel (included at the end of the module under `ifdef
 // FORMAL). Assumed as brainstem_dio has it: at most one start a clock, only of a timer that
 // is not running; run_i rises only the clock after that timer's start; ticks at least 3
-// clocks apart (CLK_HZ >= 2 MHz). T (t_i) is free here, so the
+// clocks apart (CLK_HZ >= 2 MHz); start_any_i and start_idx_i are start_i's strobe and number
+// (bsd_exec). T (t_i) is free here, so the
 // races hold whatever T does; that every timeout is caught in time rests on the scanner's
 // lap (NUM_TIMERS clocks, doubled by starts) against the 60-tick window, and is simulated
 // (tb/bsd_timeout_wheel, tb/brainstem_dio/test_scale.py).
@@ -12,6 +13,7 @@
 // the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
 // earlier run never counts); expire_o only names inserted timers; an insert never shares
 // the write port with a slot's clearing (the scanner waits instead).
+    localparam [NUM_TIMERS-1:0] ONE = 1;
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q, f_tick2_q;
     reg [NUM_TIMERS-1:0] f_start_q, f_start2_q, f_start3_q;
@@ -33,6 +35,8 @@
     always @(*) begin
         if (!f_past_valid) assume(rst);
         assume((start_i & (start_i - 1'b1)) == NONE);
+        assume(start_any_i == (start_i != NONE));
+        if (start_any_i) assume(start_i == (ONE << start_idx_i));
         assume((start_i & run_i) == NONE);
         if (f_past_valid) assume((run_i & ~f_run_q) == f_start_q);
         if (rst) assume(run_i == NONE);

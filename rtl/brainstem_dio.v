@@ -235,6 +235,8 @@ module brainstem_dio #(
     wire                  out_wdata;
     wire [NUM_PINS-1:0]   rearm;
     wire [NUM_PINS-1:0]   timer_start;
+    wire                  timer_go;
+    wire [5:0]            timer_idx;
     wire                  timer_host, timer_rflx;
     wire                  hb_answer;
     wire                  hb_answer_down;
@@ -272,6 +274,8 @@ module brainstem_dio #(
         .out_wdata_o     (out_wdata),
         .rearm_o         (rearm),
         .timer_start_o   (timer_start),
+        .timer_go_o      (timer_go),
+        .timer_idx_o     (timer_idx),
         .timer_host_o    (timer_host),
         .timer_rflx_o    (timer_rflx),
         .hb_answer_o     (hb_answer),
@@ -430,6 +434,8 @@ module brainstem_dio #(
         .tick_i      (tick),
         .t_i         (t_count),
         .start_i     (t_start),
+        .start_any_i (timer_go),
+        .start_idx_i (timer_idx),
         .run_i       (timer_run),
         .expire_o    (timer_expire)
     );

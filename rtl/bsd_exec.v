@@ -44,6 +44,8 @@ module bsd_exec #(
     output wire [NUM_PINS-1:0]   rearm_o,
     // timers: start one, with the DEVCODE's delivery bits
     output wire [NUM_PINS-1:0]   timer_start_o,
+    output wire                  timer_go_o,    // a timer starts (timer_start_o is not zero)
+    output wire [5:0]            timer_idx_o,   // and its number (timers counted in pin order)
     output wire                  timer_host_o,
     output wire                  timer_rflx_o,
     // heartbeat answer from the host
@@ -82,6 +84,45 @@ module bsd_exec #(
     endfunction
     localparam [5:0] PIN_ID_W   = PIN_ID_BASE[5:0];
 
+    // The timer number of each pin (the timers on the pins below it), as a
+    // table indexed by the packet's pin: the timer blocks take a start as its
+    // number as well, so no one-hot-to-number encoder is built. Only a timer
+    // pin's entry is ever used; the others (pins without a timer, and beyond
+    // NUM_PINS) continue the count as if the pins above the last were timer
+    // pins and a pin without one took the number below it, which keeps the
+    // table a plain subtraction of the pin (all-timer builds: the pin itself),
+    // cut to the bits a timer number has.
+    // Only localparam initializers call them: they run while elaborating, never in simulation.
+    /* verilator coverage_off */
+    function integer timer_bits(input integer unused);
+        integer q, t;
+        begin
+            t = 0;
+            for (q = 0; q < NUM_PINS; q = q + 1)
+                if (TIMER_MASK[q]) t = t + 1;
+            timer_bits = 0;
+            while ((1 << timer_bits) < t) timer_bits = timer_bits + 1;
+        end
+    endfunction
+    function [64*6-1:0] timer_table(input integer unused);
+        integer   q;
+        reg [5:0] num, mask;
+        reg [63:0] tm;
+        begin
+            tm = 64'd0;
+            tm[NUM_PINS-1:0] = TIMER_MASK;
+            mask = 6'd0;
+            for (q = 0; q < timer_bits(0); q = q + 1) mask = {mask[4:0], 1'b1};
+            num = 6'h3F;  // the pin before pin 0
+            for (q = 0; q < 64; q = q + 1) begin
+                if (q >= NUM_PINS || tm[q]) num = num + 6'd1;
+                timer_table[6*q +: 6] = num & mask;
+            end
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [64*6-1:0] TIMER_NUM = timer_table(0);
+
     // ------------------------------ stage 1: pin lookup and decisions
     localparam [NUM_PINS-1:0] ONE = 1;
 
@@ -90,7 +131,7 @@ module bsd_exec #(
     // called only in the branch of a packet's clock (and of reset): a
     // simulator decodes a packet on its clock only, where wires would be
     // worked out every clock; synthesis gives the same gates either way.
-    localparam integer DW = 34 + 3 * NUM_PINS + 11;
+    localparam integer DW = 34 + 3 * NUM_PINS + 17;
     function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] d0, input [7:0] d1,
                              input [5*NUM_PINS-1:0] cfg, input [NUM_PINS-1:0] level,
                              input [NUM_PINS-1:0] busy);
@@ -180,6 +221,7 @@ module bsd_exec #(
             rn = probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? n : MSG_N[3:0];
 
             stage1 = {b0, b1, rn, long, PIN_ID_W + dev_pin, look_cfg, look_level, sel_fixed, sel,
+                      TIMER_NUM[6*dev_pin +: 6],
                       // the flags, cleared on a clock without a packet
                       probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
                           (long && (cfg_w || rst_w)),       // known
@@ -193,7 +235,7 @@ module bsd_exec #(
                       is_cmd && d0_hb && n_ge2 &&           // hb_answer
                           (d1 == HB_UP + HB_ANSWER_OFFSET || d1 == HB_DOWN + HB_ANSWER_OFFSET),
                       sel,                                  // rearm (cleared below unless rearms())
-                      sel & TIMER_MASK & {NUM_PINS{start}}};  // start
+                      sel & TIMER_MASK};                    // start (cleared below unless starts())
         end
     endfunction
 
@@ -205,6 +247,19 @@ module bsd_exec #(
             rearms = kind == KIND_CMD && below(d1, NUM_PINS_W) &&
                      ((d0 == CMD_DIG_CFG && (|n[3:2] || &n[1:0]) && !(|((ONE << d1[5:0]) & FIXED_MASK))) ||
                       (d0 == CMD_DIG_RST && |n[3:1]));
+        end
+    endfunction
+
+    // Whether the packet starts its pin's timer (start above), for the start
+    // strobes' clear, as rearms() is for the re-arm strobes': the strobes
+    // then load the pin's one-hot line that sel_q loads too, and the start
+    // is their shared synchronous clear, not an AND a timer.
+    function starts(input [1:0] kind, input [3:1] n, input [7:0] d0, input [5:0] dev_pin,
+                    input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] busy);
+        reg [NUM_PINS-1:0] sel;
+        begin
+            sel    = (ONE << dev_pin) & TIMER_MASK;
+            starts = kind == KIND_CMD && d0 == CMD_PTIME_RD && |n[3:1] && |(in & sel) && !(|(busy & sel));
         end
     endfunction
 
@@ -228,6 +283,7 @@ module bsd_exec #(
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q;
     reg [NUM_PINS-1:0] sel_q, start_q;
+    reg [5:0]          tidx_q;        // the packet pin's timer number
 
     // Stage 1's decision is loaded only on a packet's clock: the data flops
     // (reply bytes, d1/d2, the lookup) hold between packets (enabled flops,
@@ -237,7 +293,7 @@ module bsd_exec #(
     always @(posedge clk) begin
         s2_valid_q <= pkt_valid_i;
         if (pkt_valid_i || rst) begin
-            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_cfg_q, pin_level_q, pin_fixed_q, sel_q,
+            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_cfg_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
              hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i,
                                                       cfg_i, level_i, timer_busy_i);
@@ -259,8 +315,12 @@ module bsd_exec #(
             hb_answer_q <= 1'b0;
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
-        end else if (!rearms(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i)) begin
-            rearm_q     <= {NUM_PINS{1'b0}};
+        end else begin
+            if (!rearms(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i))
+                rearm_q <= {NUM_PINS{1'b0}};
+            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_d0_i, pkt_d1_i[5:0], cfg_i[IODIR*NUM_PINS +: NUM_PINS],
+                        timer_busy_i))
+                start_q <= {NUM_PINS{1'b0}};
         end
     end
 
@@ -273,6 +333,8 @@ module bsd_exec #(
     assign out_we_o      = out_we_q;
     assign rearm_o       = rearm_q;
     assign timer_start_o = start_q;
+    assign timer_go_o    = started_q;
+    assign timer_idx_o   = tidx_q;
     assign hb_answer_o   = hb_answer_q;
     assign pin_sel_o     = sel_q;
     assign cfg_wdata_o   = s2_d2_q[4:0];

@@ -27,6 +27,8 @@ module bsd_timeout_wheel #(
     input  wire                tick_i,
     input  wire [15:0]         t_i,          // bsd_timer_bank's T
     input  wire [NUM_TIMERS-1:0] start_i,      // the timer that starts now (one at most)
+    input  wire                start_any_i,  // start_i is not zero
+    input  wire [5:0]          start_idx_i,  // the number of start_i's timer
     input  wire [NUM_TIMERS-1:0] run_i,
     output wire [NUM_TIMERS-1:0] expire_o
 );
@@ -41,9 +43,9 @@ module bsd_timeout_wheel #(
         end
     endfunction
 
-    wire       start_any = |start_i;
-    wire [5:0] start_idx;
-    bsd_onehot_idx #(.N(NUM_TIMERS)) u_start_idx (.onehot_i(start_i), .idx_o(start_idx));
+    // The start as a strobe and a number come with the one-hot from the
+    // executor, which has both at hand: no OR or encoder over the timers here.
+    wire       start_any = start_any_i;
 
     // -------------------------------------------------------- start times
     (* no_rw_check *)  // a read of the address being written is never used (stale_q)
@@ -139,7 +141,7 @@ module bsd_timeout_wheel #(
 
     always @(posedge clk) begin
         st_q     <= start_any;
-        st_idx_q <= start_idx;
+        st_idx_q <= start_idx_i;
         if (advance) begin
             scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
             scan2_q  <= scan_q;

@@ -44,7 +44,7 @@ BUILDS = {
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
 }
 
-ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "hb_answer_o",
+ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "timer_go_o", "hb_answer_o",
           "reply_o", "dio_rflx_o", "soft_reset_o")
 
 
@@ -149,7 +149,10 @@ class ExecModel:
             elif bit(v["timer_busy_i"], pin):
                 msg(MSG_TMR_CONFLICT)
             else:
-                e.update(timer_start_o=1 << pin, timer_host_o=int(bool(d1 & DEVCODE_HOST)),
+                # the timer's number: the timers on the pins below
+                tnum = bin(self.timer_mask & ((1 << pin) - 1)).count("1")
+                e.update(timer_start_o=1 << pin, timer_go_o=1, timer_idx_o=tnum,
+                         timer_host_o=int(bool(d1 & DEVCODE_HOST)),
                          timer_rflx_o=int(bool(d1 & DEVCODE_RFLX)))
                 too_long(2)
         return e
@@ -159,7 +162,7 @@ class ExecTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_d0_i=0, pkt_d1_i=0,
                   pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
-    OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_host_o",
+    OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_idx_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
                         "reply_tail_o", "dio_id_o", "dio_val_o")
 

@@ -30,7 +30,7 @@ TIMEOUT = 65535
 
 
 class WheelTB(ClockedTB):
-    INPUTS = dict(tick_i=0, t_i=0, start_i=0, run_i=0)
+    INPUTS = dict(tick_i=0, t_i=0, start_i=0, start_any_i=0, start_idx_i=0, run_i=0)
     OUTPUTS = ("expire_o",)
 
     def __init__(self, dut) -> None:
@@ -48,7 +48,8 @@ class WheelTB(ClockedTB):
         tick = int(self.clock % 3 == 0)
         run = sum(1 << k for k in range(self.n) if self.run[k])
         await FallingEdge(self.clk)
-        self.drive(0, tick_i=tick, t_i=self.t, start_i=(1 << start) if start is not None else 0, run_i=run)
+        self.drive(0, tick_i=tick, t_i=self.t, start_i=(1 << start) if start is not None else 0,
+                   start_any_i=int(start is not None), start_idx_i=start or 0, run_i=run)
         await ReadOnly()
         exp = int(self.dut.expire_o.value)
         await RisingEdge(self.clk)
