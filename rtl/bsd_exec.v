@@ -110,7 +110,9 @@ module bsd_exec #(
         reg [63:0] tm;
         begin
             tm = 64'd0;
-            tm[NUM_PINS-1:0] = TIMER_MASK;
+            // bit by bit: a part select would overrun tm on a NUM_PINS > 64
+            // build, which must reach the top's range check (Icarus aborts)
+            for (q = 0; q < NUM_PINS && q < 64; q = q + 1) tm[q] = TIMER_MASK[q];
             mask = 6'd0;
             for (q = 0; q < timer_bits(0); q = q + 1) mask = {mask[4:0], 1'b1};
             num = 6'h3F;  // the pin before pin 0
