@@ -113,7 +113,7 @@ module bsd_drain #(
     function [NT-1:0] lowest(input [NT-1:0] v);
         lowest = v & (~v + {{(NT-1){1'b0}}, 1'b1});
     endfunction
-    // The index of a one-hot timer vector (bsd_onehot_idx's OR per index bit).
+    // The index of a one-hot timer vector: an OR per index bit.
     function [5:0] index_of(input [NT-1:0] oh);
         integer t;
         begin

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
-// A 6-bit timer number (en_i: or none) as a one-hot vector, the inverse of
-// bsd_onehot_idx: the block of 8 (a byte shifted by 8 x idx[5:3]) AND the
-// bit in each block, so synthesis sees two 8-way decoders and a gate per
-// output, and simulation a few word operations (not a statement per bit).
+// A 6-bit timer number (en_i: or none) as a one-hot vector: the block of 8
+// (a byte shifted by 8 x idx[5:3]) AND the bit in each block, so synthesis
+// sees two 8-way decoders and a gate per output, and simulation a few word
+// operations (not a statement per bit).
 // Numbers at or above N select nothing.
 module bsd_idx_onehot #(
     parameter integer N = 4  // 1..64
