@@ -15,6 +15,8 @@ CORE_FILES := $(shell sed -n 's,^ *- *\(rtl/[^ :]*\).*,\1,p' brainstem_dio.core)
 RTL     := $(filter %.v,$(CORE_FILES))
 JOBS    ?= 2
 PYTEST_ARGS ?=
+# A recipe that fails leaves no target behind (a formal job's half-made config.sby is redone).
+.DELETE_ON_ERROR:
 
 .PHONY: all test test-full test-time formal formal-quick formal-list core-files test-host lint fusesoc-check sim \
 	sim-build sim-path virtual virtual-build virtual-path bench bench-build synth bitstream venv clean protocol \
