@@ -50,12 +50,31 @@ module bsd_tick_gen #(
             localparam [W-1:0] INC_W = INC[W-1:0];
             localparam [W-1:0] MOD_W = MOD[W-1:0];
 
+            localparam [W-1:0] TOP_W = MOD_W - INC_W;  // acc + INC wraps from here up
+
+            // x >= K for a constant K, as gates: synthesis folds the constant
+            // into a few LUTs where a comparator would take a second carry chain.
+            function at_least(input [W-1:0] x, input [W-1:0] k);
+                integer j;
+                reg     eq;
+                begin
+                    at_least = 1'b1;
+                    eq       = 1'b1;
+                    for (j = W - 1; j >= 0; j = j - 1) begin
+                        at_least = at_least & ~(eq & k[j] & ~x[j]);
+                        eq       = eq & (x[j] == k[j]);
+                    end
+                end
+            endfunction
+
+            // The wrap is decided on the accumulator itself (acc + INC >= MOD
+            // is acc >= MOD - INC), so one adder, whose second operand is INC
+            // or INC - MOD, makes the next value.
             reg  [W-1:0] acc_q;
-            wire [W-1:0] sum  = acc_q + INC_W;
-            wire         wrap = (sum >= MOD_W);
+            wire         wrap = at_least(acc_q, TOP_W);
 
             always @(posedge clk) begin
-                acc_q  <= wrap ? sum - MOD_W : sum;
+                acc_q  <= acc_q + (wrap ? INC_W - MOD_W : INC_W);
                 tick_q <= wrap;
                 if (rst) begin
                     acc_q  <= {W{1'b0}};
