@@ -69,9 +69,10 @@ module bsd_tick_gen #(
 
             // The wrap is decided on the accumulator itself (acc + INC >= MOD
             // is acc >= MOD - INC), so one adder, whose second operand is INC
-            // or INC - MOD, makes the next value.
+            // or INC - MOD, makes the next value. With INC = 1 the wrap is
+            // acc = MOD - 1, the one value below MOD with all of its 1 bits.
             reg  [W-1:0] acc_q;
-            wire         wrap = at_least(acc_q, TOP_W);
+            wire         wrap = INC == 1 ? &(acc_q | ~TOP_W) : at_least(acc_q, TOP_W);
 
             always @(posedge clk) begin
                 acc_q  <= acc_q + (wrap ? INC_W - MOD_W : INC_W);
