@@ -52,27 +52,12 @@ module bsd_tick_gen #(
 
             localparam [W-1:0] TOP_W = MOD_W - INC_W;  // acc + INC wraps from here up
 
-            // x >= K for a constant K, as gates: synthesis folds the constant
-            // into a few LUTs where a comparator would take a second carry chain.
-            function at_least(input [W-1:0] x, input [W-1:0] k);
-                integer j;
-                reg     eq;
-                begin
-                    at_least = 1'b1;
-                    eq       = 1'b1;
-                    for (j = W - 1; j >= 0; j = j - 1) begin
-                        at_least = at_least & ~(eq & k[j] & ~x[j]);
-                        eq       = eq & (x[j] == k[j]);
-                    end
-                end
-            endfunction
-
             // The wrap is decided on the accumulator itself (acc + INC >= MOD
             // is acc >= MOD - INC), so one adder, whose second operand is INC
             // or INC - MOD, makes the next value. With INC = 1 the wrap is
             // acc = MOD - 1, the one value below MOD with all of its 1 bits.
             reg  [W-1:0] acc_q;
-            wire         wrap = INC == 1 ? &(acc_q | ~TOP_W) : at_least(acc_q, TOP_W);
+            wire         wrap = INC == 1 ? &(acc_q | ~TOP_W) : acc_q >= TOP_W;
 
             always @(posedge clk) begin
                 acc_q  <= acc_q + (wrap ? INC_W - MOD_W : INC_W);
