@@ -9,7 +9,8 @@
     reg [WIDTH-1:0] f_sd_q, f_md_q;
     reg [WIDTH-1:0] f_in_cnt, f_out_cnt;
     wire [WIDTH-1:0] f_held = f_in_cnt - f_out_cnt;
-    wire [AW:0]      f_ram  = wr_q - rd_q;
+    // The RAM's words: the pointers' distance, or DEPTH when full (equal pointers either way).
+    wire [AW:0]      f_ram  = ram_full_q ? DEPTH[AW:0] : {1'b0, wr_q - rd_q};
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -55,15 +56,17 @@
             // Full and empty exact.
             assert(ram_empty_q == (f_ram == 0));
             assert(ram_full_q == (f_ram == DEPTH));
+            assert(!(ram_full_q && ram_empty_q));
+            if (ram_full_q) assert(wr_q == rd_q);
             assert(s_axis_tready == (f_ram != DEPTH));
             assert(empty_o == (f_held == 0));
             // Never a read and a write of one RAM address on one clock.
-            assert(!(push && pop && wr_q[AW-1:0] == rd_q[AW-1:0]));
+            assert(!(push && pop && wr_q == rd_q));
             // Induction: the RAM holds the next words in order.
             for (f_k = 0; f_k < DEPTH; f_k = f_k + 1)
                 if (f_k < f_ram) begin
                     f_exp = f_out_cnt + out_valid_q + skid_valid + f_k;
-                    assert(mem[(rd_q[AW-1:0] + f_k) % DEPTH] == f_exp);
+                    assert(mem[(rd_q + f_k) % DEPTH] == f_exp);
                 end
         end
     end

@@ -543,7 +543,7 @@ module brainstem_dio #(
     // (tx_idle comes from flops, like drain_empty above.)
     wire        out_skip = outq_empty && tx_idle;
 
-    bsd_fifo #(.WIDTH(30), .DEPTH(128)) u_outq (
+    bsd_fifo #(.WIDTH(30), .DEPTH(128), .SKID(0)) u_outq (
         .clk           (clk),
         .rst           (core_rst),
         .s_axis_tdata  (order_data),

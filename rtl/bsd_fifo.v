@@ -41,8 +41,10 @@ module bsd_fifo #(
 
     (* no_rw_check *)  // never read and written at one address on one clock (below)
     reg [WIDTH-1:0] mem [0:DEPTH-1];
-    reg [AW:0]      wr_q;  // one wrap bit above the address
-    reg [AW:0]      rd_q;
+    // No wrap bit above the addresses: full and empty are flops of their own,
+    // so equal pointers never need telling apart.
+    reg [AW-1:0]    wr_q;
+    reg [AW-1:0]    rd_q;
     // The RAM's read register, and the skid register that takes its word when
     // a read comes while the output waits. The skid holds the older word, so
     // it is offered first; it is only ever full beside a full read register.
@@ -67,21 +69,21 @@ module bsd_fifo #(
     // read register is free or its word leaves now.
     wire pop       = !ram_empty_q && (SKID != 0 ? !skid_valid_q : (!out_valid_q || m_axis_tready));
     // One word from empty / full: a lone pop empties, a lone push fills.
-    wire [AW:0] wr_inc    = wr_q + 1'b1;
-    wire [AW:0] rd_inc    = rd_q + 1'b1;
+    wire [AW-1:0] wr_inc  = wr_q + 1'b1;
+    wire [AW-1:0] rd_inc  = rd_q + 1'b1;
     wire        one_left  = (rd_inc == wr_q);
-    wire        one_free  = (wr_inc == {~rd_q[AW], rd_q[AW-1:0]});
+    wire        one_free  = (wr_inc == rd_q);
 
     assign s_axis_tready = !ram_full_q;
     assign empty_o       = ram_empty_q && !out_valid_q;
 
     // RAM ports: no reset, so they map onto block RAM.
     always @(posedge clk) begin
-        if (push) mem[wr_q[AW-1:0]] <= s_axis_tdata;
+        if (push) mem[wr_q] <= s_axis_tdata;
     end
 
     always @(posedge clk) begin
-        if (pop) out_data_q <= mem[rd_q[AW-1:0]];
+        if (pop) out_data_q <= mem[rd_q];
     end
 
     always @(posedge clk) begin
@@ -104,8 +106,8 @@ module bsd_fifo #(
         if (pop) out_valid_q <= 1'b1;
         else if (take && !skid_valid) out_valid_q <= 1'b0;
         if (rst) begin
-            wr_q        <= {(AW + 1){1'b0}};
-            rd_q        <= {(AW + 1){1'b0}};
+            wr_q        <= {AW{1'b0}};
+            rd_q        <= {AW{1'b0}};
             ram_empty_q <= 1'b1;
             ram_full_q  <= 1'b0;
             out_valid_q <= 1'b0;
@@ -120,8 +122,8 @@ module bsd_fifo #(
     // Nested under the write, so an idle clock costs the simulation one test.
     always @(posedge clk) begin
         if (push) begin
-            if (pop && !rst && wr_q[AW-1:0] == rd_q[AW-1:0])
-                $fatal(1, "bsd_fifo: RAM read and write of address %0d on one clock", rd_q[AW-1:0]);
+            if (pop && !rst && wr_q == rd_q)
+                $fatal(1, "bsd_fifo: RAM read and write of address %0d on one clock", rd_q);
         end
     end
 `endif

@@ -50,12 +50,17 @@ module bsd_tick_gen #(
             localparam [W-1:0] INC_W = INC[W-1:0];
             localparam [W-1:0] MOD_W = MOD[W-1:0];
 
+            localparam [W-1:0] TOP_W = MOD_W - INC_W;  // acc + INC wraps from here up
+
+            // The wrap is decided on the accumulator itself (acc + INC >= MOD
+            // is acc >= MOD - INC), so one adder, whose second operand is INC
+            // or INC - MOD, makes the next value. With INC = 1 the wrap is
+            // acc = MOD - 1, the one value below MOD with all of its 1 bits.
             reg  [W-1:0] acc_q;
-            wire [W-1:0] sum  = acc_q + INC_W;
-            wire         wrap = (sum >= MOD_W);
+            wire         wrap = INC == 1 ? &(acc_q | ~TOP_W) : acc_q >= TOP_W;
 
             always @(posedge clk) begin
-                acc_q  <= wrap ? sum - MOD_W : sum;
+                acc_q  <= acc_q + (wrap ? INC_W - MOD_W : INC_W);
                 tick_q <= wrap;
                 if (rst) begin
                     acc_q  <= {W{1'b0}};
