@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_drain (included at the end of the module under `ifdef FORMAL).
 // The event queue's head is assumed to obey AXI-Stream (an entry offered stays offered,
-// unchanged, until taken); entries (their r and f bits valid or not: ev_timers_i), delivery
-// flags and DIG_IO values are free.
+// unchanged, until taken); entries (with timer events or not: ev_timers_i, which promises
+// r and f valid and not both zero), delivery flags and DIG_IO values are free.
 // Asserted, the order of one entry (PROTOCOL.md §5, DESIGN.md decisions 1 and 9): one item
 // a clock; timers in ascending order; the DIG_IO value before the first timer whose ID is
 // above its own and after every timer whose ID is not; the reply after every timer and the
@@ -59,6 +59,7 @@
     always @(*) begin
         if (!f_past_valid) assume(rst);
         if (f_past_valid && !f_rst_q && f_v_q && !f_r_q) assume(ev_valid_i && ev_data_i == f_d_q && ev_timers_i == f_t_q);
+        if (ev_valid_i && ev_timers_i) assume((ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT]) != {NT{1'b0}});
 
         if (f_past_valid && !rst && !f_rst_q) begin
             assert(f_takes <= 3'd1);

@@ -87,9 +87,12 @@ module brainstem_dio #(
     localparam integer TIMERS = count_timers(0);
     localparam integer NT     = TIMERS == 0 ? 1 : TIMERS;
 
-    // An event queue entry: {timer references, timer finishes, reply, DIG_IO
-    // RFLX value, heartbeat, the DIG_IO value's ID and level, T}.
-    localparam integer EW = 2 * NT + 26;
+    // An event queue entry: {timer events at all, timer references, timer
+    // finishes, reply, DIG_IO RFLX value, heartbeat, the DIG_IO value's ID and
+    // level, T}. The first bit (bsd_timer_bank's ev_any) spares the drain an
+    // OR over the timers' bits; the drain takes the rest (DW bits).
+    localparam integer DW = 2 * NT + 26;
+    localparam integer EW = DW + 1;
 
     // ---------------------------------------------------------------- checks
     // One check and one message per rule of the contract (PROTOCOL.md §1,
@@ -484,7 +487,8 @@ module brainstem_dio #(
     wire          tx_swapped;
     wire          rep_ev   = rep_new && !tx_swapped;
     wire          ev_new   = ev_any || rep_ev || dio_rflx_new || hb_new_q;
-    wire [EW-1:0] ev_entry = {ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val, t_count};
+    wire [EW-1:0] ev_entry = {ev_any, ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val,
+                              t_count};
     // (drain_empty comes from flops: the drain's pick stays off the queue's
     // write enable; an entry that meets the drain's last item is queued.)
     wire          ev_skip  = evq_empty && drain_empty && !ev_any;
@@ -507,7 +511,7 @@ module brainstem_dio #(
     // A skipping entry has no timer event, and the drain reads T only for
     // timer events: T needs no mux, and r and f none either (the drain masks
     // them with ev_timers_i).
-    wire [EW-1:0] ev_data = {evq_data[EW-1:26], evq_valid ? evq_data[25:16] : ev_entry[25:16],
+    wire [DW-1:0] ev_data = {evq_data[DW-1:26], evq_valid ? evq_data[25:16] : ev_entry[25:16],
                              evq_data[15:0]};
 
     bsd_drain #(
@@ -520,7 +524,7 @@ module brainstem_dio #(
         .rst           (core_rst),
         .ev_valid_i    (evq_valid || (ev_new && ev_skip)),
         .ev_data_i     (ev_data),
-        .ev_timers_i   (evq_valid),
+        .ev_timers_i   (evq_valid && evq_data[EW-1]),
         .ev_ready_o    (drain_free),
         .empty_o       (drain_empty),
         .run_host_i    (timer_host_pend),

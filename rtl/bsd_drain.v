@@ -36,9 +36,11 @@ module bsd_drain #(
     // the event queue's head
     input  wire                       ev_valid_i,
     input  wire [2*NT+25:0]           ev_data_i,    // {r, f, reply, dio, hb, dio ID, dio level, T}
-    // r and f are valid (the entry comes from the queue; one that skips it has
-    // no timer events and r and f are the queue's stale word): the drain masks
-    // them in the gates that load rem_q, so the top needs no gate per bit.
+    // The entry has timer events: r and f are valid and not both zero. (An
+    // entry that skips the queue has none, and r and f are the queue's stale
+    // word: the drain masks them in the gates that load rem_q, so the top
+    // needs no gate per bit.) It is a bit of the queue's entry (bsd_timer_bank's
+    // ev_any), so "a timer is left" is loaded without an OR over the timers.
     input  wire                       ev_timers_i,
     output wire                       ev_ready_o,
     output wire                       empty_o,      // no item left (a flop)
@@ -205,8 +207,7 @@ module bsd_drain #(
     wire                next      = empty_q;
     wire [NT-1:0]       ev_rf     = ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT];
     wire                ev_t      = ev_valid_i && ev_timers_i;
-    wire                ev_any_t  = ev_t && |ev_rf;
-    wire                ev_items  = ev_any_t || |ev_data_i[25:23];
+    wire                ev_items  = ev_t || |ev_data_i[25:23];
     assign ev_ready_o = next;
     assign empty_o    = empty_q;
 
@@ -283,7 +284,7 @@ module bsd_drain #(
             rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
             r_q       <= ev_data_i[2*NT+25 -: NT];
             f_q       <= ev_data_i[NT+25 -: NT];
-            any_t_q   <= ev_any_t;
+            any_t_q   <= ev_t;
             rep_q     <= ev_valid_i && ev_data_i[25];
             dio_q     <= ev_valid_i && ev_data_i[24];
             hb_q      <= ev_valid_i && ev_data_i[23];
