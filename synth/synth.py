@@ -197,12 +197,15 @@ def _nextpnr(work: Path, d: Design, seed: int, tag: str | None = None, netlist: 
     except Unplaced:
         raise
     except FlowError:
-        # Too big: nextpnr prints the utilization it could not meet before it gives up.
+        # Too big: nextpnr prints the utilization it could not meet before it gives up, or, at
+        # the limit, packs the design and then finds no legal placement for it.
         log = work / f"{tag}.log"
-        m = re.findall(rf"{f.logic}:\s*(\d+)/\s*(\d+)", log.read_text(errors="replace") if log.exists() else "")
-        if m and int(m[-1][0]) > int(m[-1][1]):
+        text = log.read_text(errors="replace") if log.exists() else ""
+        m = re.findall(rf"{f.logic}:\s*(\d+)/\s*(\d+)", text)
+        if m and (int(m[-1][0]) > int(m[-1][1]) or "Unable to find legal placement" in text):
             used, avail = map(int, m[-1])
-            raise Unplaced(f"does not fit: {used} {f.logic} of the {avail} available ({100 * used / avail:.0f} %)") from None
+            why = "does not fit" if used > avail else "no legal placement"
+            raise Unplaced(f"{why}: {used} {f.logic} of the {avail} available ({100 * used / avail:.0f} %)") from None
         raise
     rep = json.loads((work / f"{tag}.json").read_text())
     util = rep["utilization"][f.logic]

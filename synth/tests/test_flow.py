@@ -22,6 +22,12 @@ Info: 	         ICESTORM_LC:   19607/   5280   371%
 Info: 	        ICESTORM_RAM:       1/     30     3%
 ERROR: Unable to place cell 'u_dio.x', no BELs remaining to implement cell type 'ICESTORM_LC'
 """
+# At the limit it packs the design, then its placer finds no legal placement.
+AT_THE_LIMIT = """Info: Device utilisation:
+Info: 	         ICESTORM_LC:    5249/   5280    99%
+Info: Running main analytical placer, max placement attempts per cell = 3490082.
+ERROR: Unable to find legal placement for all cells, design is probably at utilisation limit.
+"""
 FITS_BUT_FAILS = """Info: Device utilisation:
 Info: 	         ICESTORM_LC:    1402/   5280    26%
 ERROR: Failed to route net 'x'
@@ -46,6 +52,12 @@ def _fake_nextpnr(monkeypatch, tmp_path: Path, log: str | None, late: bool = Fal
 def test_a_design_too_big_is_unplaced_with_the_cells_it_needs(monkeypatch, tmp_path) -> None:
     d = _fake_nextpnr(monkeypatch, tmp_path, TOO_BIG)
     with pytest.raises(flow.Unplaced, match=r"does not fit: 19607 ICESTORM_LC of the 5280 available \(371 %\)"):
+        flow._nextpnr(tmp_path, d, 1)
+
+
+def test_a_design_at_the_limit_is_unplaced_with_the_cells_it_packed(monkeypatch, tmp_path) -> None:
+    d = _fake_nextpnr(monkeypatch, tmp_path, AT_THE_LIMIT)
+    with pytest.raises(flow.Unplaced, match=r"no legal placement: 5249 ICESTORM_LC of the 5280 available \(99 %\)"):
         flow._nextpnr(tmp_path, d, 1)
 
 
