@@ -92,6 +92,8 @@ MUTANTS = [
     ("bsd_exec", "prove", "bsd_exec.v",
      "a DIG_CFG write to a fixed pin is strobed (and re-arms it) instead of configErr",
      "cfg_w   = c_cfg && pin_ok && !sel_fixed;", "cfg_w   = c_cfg && pin_ok;"),
+    ("bsd_exec", "prove_t2", "bsd_exec.v", "the timer numbers counted from 1: a start names the next timer",
+     "num = 6'h3F;  // the pin before pin 0", "num = 6'h00;"),
 ]
 
 
