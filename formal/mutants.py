@@ -29,7 +29,7 @@ MUTANTS = [
      "(start & {NUM_TIMERS{host_i || rflx_i}})", "(start & {NUM_TIMERS{host_i}})"),
     ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v",
      "a scan that read the start a restart is overwriting inserts the previous run's timeout",
-     "stale_q  <= st_q || start_any || (!advance && stale_q);", "stale_q  <= st_q || (!advance && stale_q);"),
+     "stale_q  <= st_q || start_any_i || (!advance && stale_q);", "stale_q  <= st_q || (!advance && stale_q);"),
     ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v",
      "a restart after its slot was read expires at the previous run's timeout",
      "assign expire_o = expire_q & ins_q;", "assign expire_o = expire_q;"),

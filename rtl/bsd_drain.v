@@ -292,8 +292,7 @@ module bsd_drain #(
             dio_val_q <= ev_data_i[16];
             t_q       <= ev_data_i[15:0];
             empty_q   <= !(ev_valid_i && ev_items);
-            // (no item: rem_q is 0, so the pick's index was 0)
-            {a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= 10'd0;
+            {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
         end else begin
             {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step(rem_q);
         end

@@ -142,7 +142,7 @@ module bsd_exec #(
         reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_out, c_rst, c_time;
         reg [NUM_PINS-1:0] sel;
         reg [4:0]          look_cfg;
-        reg                look_level, look_busy, look_in, sel_fixed, sel_timer;
+        reg                look_level, look_in, sel_fixed, sel_timer;
         reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
         reg                serial, probe, long;
         reg [7:0]          b0, b1;
@@ -183,7 +183,6 @@ module bsd_exec #(
             // The addressed pin's state; zero for a pin beyond the last.
             for (k = 0; k < 5; k = k + 1) look_cfg[k] = |(cfg[k*NUM_PINS +: NUM_PINS] & sel);
             look_level = |(level & sel);
-            look_busy  = |(busy & sel & TIMER_MASK);
             look_in    = look_cfg[IODIR];
             sel_fixed  = |(sel & FIXED_MASK);
             sel_timer  = |(sel & TIMER_MASK);
@@ -200,7 +199,7 @@ module bsd_exec #(
             cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
-            start   = c_time && sel_timer && look_in && !look_busy;  // a PTIME_RD that starts
+            start   = starts(kind, n[3:1], d0, dev_pin, cfg[IODIR*NUM_PINS +: NUM_PINS], busy);
             idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
                       (is_cmd && d0_io && n2 && !dev_ok) ||
                       (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
@@ -252,8 +251,8 @@ module bsd_exec #(
         end
     endfunction
 
-    // Whether the packet starts its pin's timer (start above), for the start
-    // strobes' clear, as rearms() is for the re-arm strobes': the strobes
+    // Whether the packet starts its pin's timer: stage 1's `start`, and the
+    // start strobes' clear, as rearms() is the re-arm strobes': the strobes
     // then load the pin's one-hot line that sel_q loads too, and the start
     // is their shared synchronous clear, not an AND a timer.
     function starts(input [1:0] kind, input [3:1] n, input [7:0] d0, input [5:0] dev_pin,

@@ -6,10 +6,11 @@
 // With SKID = 1 a skid register behind it holds another (DEPTH + 2 words),
 // so that the RAM's read enable comes from flops only and m_axis_tready
 // (a consumer's long pick logic) reaches only the two output valid flags.
-// With SKID = 0 (a consumer whose tready is a flop: bsd_drain) there is no
-// skid, whose WIDTH flops and output mux a wide word would pay for, and
-// m_axis_tready reaches the read enable. s_axis_tready and m_axis_tvalid
-// come from flops either way.
+// With SKID = 0 there is no skid, whose WIDTH flops and output mux a wide
+// word would pay for, and m_axis_tready reaches the read enable: for a
+// consumer whose tready is a flop (bsd_drain) or a gate on flops and a
+// registered ready (bsd_pkt_tx behind the host link's register slice).
+// s_axis_tready and m_axis_tvalid come from flops either way.
 //
 // Latency: a word written into an empty FIFO is offered 2 clocks later.
 // The RAM is never read and written at the same address on one clock (a read

@@ -27,6 +27,8 @@ module bsd_timeout_wheel #(
     input  wire                tick_i,
     input  wire [15:0]         t_i,          // bsd_timer_bank's T
     input  wire [NUM_TIMERS-1:0] start_i,      // the timer that starts now (one at most)
+    // The start's strobe and number come from the executor, which has both at
+    // hand: no OR or encoder over the timers here.
     input  wire                start_any_i,  // start_i is not zero
     input  wire [5:0]          start_idx_i,  // the number of start_i's timer
     input  wire [NUM_TIMERS-1:0] run_i,
@@ -42,10 +44,6 @@ module bsd_timeout_wheel #(
             pad[NUM_TIMERS-1:0] = v;
         end
     endfunction
-
-    // The start as a strobe and a number come with the one-hot from the
-    // executor, which has both at hand: no OR or encoder over the timers here.
-    wire       start_any = start_any_i;
 
     // -------------------------------------------------------- start times
     (* no_rw_check *)  // a read of the address being written is never used (stale_q)
@@ -140,7 +138,7 @@ module bsd_timeout_wheel #(
     assign expire_o = expire_q & ins_q;
 
     always @(posedge clk) begin
-        st_q     <= start_any;
+        st_q     <= start_any_i;
         st_idx_q <= start_idx_i;
         if (advance) begin
             scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
@@ -150,10 +148,10 @@ module bsd_timeout_wheel #(
             win3_q   <= in_win;
         end
         // The start read now may be a previous run's when a new one is
-        // written now (st_q) or next clock (start_any), or (stage 3) on the
+        // written now (st_q) or next clock (start_any_i), or (stage 3) on the
         // clock after. A stall keeps the candidates: they stay stale if they were.
-        stale_q  <= st_q || start_any || (!advance && stale_q);
-        stale3_q <= advance ? (stale_q || start_any) : (stale3_q || start_any);
+        stale_q  <= st_q || start_any_i || (!advance && stale_q);
+        stale3_q <= advance ? (stale_q || start_any_i) : (stale3_q || start_any_i);
         ins_q    <= ((ins_q | ins_bit) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;

@@ -195,7 +195,7 @@ async def test_item_a_clock(dut) -> None:
         pend = [e for j, e in enumerate((e1, e2, e3)) if j >= len(taken)]
         kw = dict(run_host_i=full, run_rflx_i=0)
         # (e3 has no timer events: ev_timers_i low)
-        kw.update(ev_valid_i=1, ev_timers_i=int(len(pend) > 1), ev_data_i=pend[0]) if pend \
+        kw.update(ev_valid_i=1, ev_timers_i=int(pend[0] != e3), ev_data_i=pend[0]) if pend \
             else kw.update(ev_valid_i=0)
         out = await tb.edge(**kw)
         if pend and out["ev_ready_o"]:
