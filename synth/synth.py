@@ -332,8 +332,13 @@ def report(r: dict[str, dict]) -> str:
     return "\n".join(lines)
 
 
+# The quadratic design's points (age-matrix arbiter, counters per timer; rtl/ at f5994f0, measured
+# with this flow on 2026-12-02), drawn beside each run's for comparison: [timers, LUT4] per pin count.
+QUADRATIC = {16: [(4, 1165), (16, 2996)], 64: [(4, 1968), (16, 3803), (64, 16100)]}
+
+
 def plot(r: dict[str, dict], path: Path) -> bool:
-    """LUT4 against timers at 16 and 64 pins, with the 64 x 64 target."""
+    """LUT4 against timers at 16 and 64 pins, beside the quadratic design, with the 64 x 64 target."""
     pts = {pins: [(r[n]["timers"], r[n]["cells"]["lut4"]) for n in names if n in r]
            for pins, names in ((16, ("core16", "core16t")), (64, ("core64", "core64t16", "core64t")))}
     if not any(pts.values()):
@@ -344,9 +349,11 @@ def plot(r: dict[str, dict], path: Path) -> bool:
     plt.rcParams["svg.hashsalt"] = "brainstem_dio"     # the same figures give the same file
     fig, ax = plt.subplots(figsize=(7, 4.2))
     date = min(r[n]["date"] for n in ("core16", "core16t", "core64", "core64t16", "core64t") if n in r)
-    for pins, p in pts.items():
+    for (pins, p), color in zip(pts.items(), ("C0", "C1")):
         if p:
-            ax.plot(*zip(*p), "o-", label=f"{pins} pins ({date})")
+            ax.plot(*zip(*p), "o-", color=color, label=f"{pins} pins ({date})")
+        ax.plot(*zip(*QUADRATIC[pins]), "o--", color=color, mfc="none", alpha=0.6,
+                label=f"{pins} pins, quadratic design (f5994f0, 2026-12-02)")
     ax.axhline(5280, color="gray", lw=0.8, ls=":")
     ax.text(1, 5280, " iCE40UP5K: 5280 logic cells", va="bottom", fontsize=8, color="gray")
     ax.plot([64], [TARGET_64X64], "x", color="black", label=f"target at 64 × 64: ≤ {TARGET_64X64} LUT4")
