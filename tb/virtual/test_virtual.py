@@ -164,10 +164,11 @@ def powered_up(v: Virtual) -> tuple[Host, int]:
     mark = len(v.out)
     v.send("reset")
     assert host.packet() == bytes([A, 2, 0x80, 4])
-    # A power-up message of an earlier reset may still have been on its way when the last
-    # host closed the port (a loaded machine): once the transcript shows this one sent, every
-    # byte is in the pty, so what is left must be power-up messages too.
-    v.out.wait(r"< 2:power reset +\(02:80,04\)$", mark)
+    # A power-up message of an earlier reset (or of start-up, on a loaded machine still on
+    # its way when the port was opened) may come first: once the transcript shows this reset's
+    # one sent (the first after the reset's own line), every byte is in the pty, so what is
+    # left must be power-up messages too.
+    v.out.wait(r"< 2:power reset +\(02:80,04\)$", v.out.wait(r"\] reset\s*$", mark))
     while select.select([host.fd], [], [], 0)[0]:
         host.buf += os.read(host.fd, 4096)
     while host.buf:
