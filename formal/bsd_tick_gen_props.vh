@@ -27,7 +27,7 @@
                 for (f_i = 0; f_i < F_W; f_i = f_i + 1)
                     f_cnt = f_cnt + f_hist[f_i];
                 if (f_past_valid) begin
-                    assert(acc_q < MOD_W);
+                    assert(acc_q < MOD);  // as a number: MOD_W is 0 when MOD is 2^W
                     if (f_n > F_W) begin
                         assert(f_cnt >= F_LO);
                         assert(f_cnt <= F_HI);

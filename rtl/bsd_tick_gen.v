@@ -45,11 +45,9 @@ module bsd_tick_gen #(
             localparam integer G   = gcd(CLK_HZ, RATE_HZ);
             localparam integer INC = RATE_HZ / G;
             localparam integer MOD = CLK_HZ / G;
-            // acc < MOD always. W is the width of MOD - 1 + INC, from when the
-            // sum was formed before the wrap; the adder now works mod 2^W, so
-            // where MOD + INC passes a power of two that MOD does not, acc's top
-            // bit stays 0 (a flop to drop with a proof of the narrower form).
-            localparam integer W = $clog2(MOD + INC);
+            // acc < MOD always, and the adder below works mod 2^W (acc + INC is
+            // never formed beside it), so W holds MOD - 1 and no more.
+            localparam integer W = MOD > 1 ? $clog2(MOD) : 1;
             localparam [W-1:0] INC_W = INC[W-1:0];
             localparam [W-1:0] MOD_W = MOD[W-1:0];
 
