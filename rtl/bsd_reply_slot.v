@@ -19,6 +19,7 @@ module bsd_reply_slot (
     input  wire                clk,
     input  wire                rst,
     input  wire                pkt_valid_i,   // the parser hands a packet to the executor
+    input  wire                soft_reset_i,  // stage 2 is a cmdRESET: the core resets on the next clock
     // the executor's stage 2 (bsd_exec)
     input  wire                s2_valid_i,    // a packet is in stage 2
     input  wire                reply_i,       // it has a reply
@@ -65,16 +66,18 @@ module bsd_reply_slot (
     assign dio_new_o   = dio_new_q;
 
     // hold_o: the slot is full, or a packet is on its way through the stages
-    // and may fill it. pending_q is that condition for every stage after
-    // the first, worked out a clock ahead (from each flag's next value) so
-    // that hold_o, which gates the parser's s_axis_tready, is one gate.
+    // and may fill it, or the core resets (the clock after soft_reset_i, when
+    // the reset fills the slot with the power-up message). pending_q is that
+    // condition for every stage after the first, worked out a clock ahead
+    // (from each flag's next value) so that hold_o, which gates the parser's
+    // s_axis_tready, is one gate of two flops.
     wire rep_wait_d = rep_req_o && !rep_done_i;
     assign hold_o = pkt_valid_i || pending_q;
 
     always @(posedge clk) begin
         reply_q    <= reply_i;
         rep_wait_q <= rep_wait_d;
-        pending_q  <= pkt_valid_i || reply_i || rep_wait_d;
+        pending_q  <= pkt_valid_i || reply_i || rep_wait_d || soft_reset_i;
         if (s2_valid_i && !rep_req_o) begin
             rep_n_q    <= reply_n_i;
             rep_data_q <= reply_data_i;
