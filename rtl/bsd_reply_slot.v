@@ -53,7 +53,8 @@ module bsd_reply_slot (
     reg [5:0]          dio_id_q;
     reg                dio_val_q;
     reg                dio_new_q;
-    reg                boot_q;       // the clock after reset: the power-up message's event
+    reg                new_q;        // the slot has filled: reply_q, or the clock after reset
+                                     // (the power-up message's event), as one flop
     reg                pending_q;    // see hold_o
 
     assign rep_req_o   = reply_q || rep_wait_q;
@@ -62,7 +63,7 @@ module bsd_reply_slot (
     assign rep_tail_o  = rep_tail_q;
     assign dio_id_o    = dio_id_q;
     assign dio_val_o   = dio_val_q;
-    assign rep_new_o   = reply_q || boot_q;
+    assign rep_new_o   = new_q;
     assign dio_new_o   = dio_new_q;
 
     // hold_o: the slot is full, or a packet is on its way through the stages
@@ -84,7 +85,7 @@ module bsd_reply_slot (
             rep_tail_q <= reply_tail_i;
         end
         dio_new_q <= dio_rflx_i;
-        boot_q    <= 1'b0;
+        new_q     <= reply_i;
         if (dio_rflx_i) begin
             dio_id_q    <= dio_id_i;
             dio_val_q   <= dio_val_i;
@@ -100,7 +101,7 @@ module bsd_reply_slot (
             dio_id_q    <= 6'd0;
             dio_val_q   <= 1'b0;
             dio_new_q   <= 1'b0;
-            boot_q      <= 1'b1;
+            new_q       <= 1'b1;
         end
     end
 
