@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # (job, task, file, what it breaks, original text, mutant text[, expected result])
 MUTANTS = [
     ("bsd_axis_skid", "prove", "bsd_axis_skid.v", "draining the skid sends the input word instead of the skid word",
-     "out_data_q   <= skid_q;", "out_data_q   <= s_axis_tdata;"),
+     "out_data_q <= skid_valid_q ? skid_q : s_axis_tdata;", "out_data_q <= s_axis_tdata;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "full flag never set: the RAM overflows",
      "wire        one_free  = (wr_inc == rd_q);", "wire        one_free  = 1'b0;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "a read while the output waits overwrites the read register: the head is lost",
