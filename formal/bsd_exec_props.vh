@@ -2,7 +2,8 @@
 // Formal properties of bsd_exec (included at the end of the module under `ifdef FORMAL).
 // Assumed, as bsd_parser hands packets over: reset on the first clock; packets at least three
 // clocks apart (the header's comment-only invariant; in simulation the block checks it);
-// kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_tail_i unchanged on the
+// kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_cmd_i the flags of a free
+// d0 byte (f_pkt_d0), as bsd_parser decodes it (its props prove it); pkt_tail_i unchanged on the
 // clock after pkt_valid_i (the parser writes no data byte before the clock after stage 2).
 // cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock.
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
@@ -16,6 +17,10 @@
 // reference's; on every other clock no strobe, no reply, no RFLX value: one decision per
 // packet, each strobe one clock long. pin_sel_o, rearm_o and timer_start_o are one-hot or zero.
     reg                  f_past_valid = 1'b0;
+    (* anyseq *) wire [7:0] f_pkt_d0;   // the packet's d0, which pkt_cmd_i decodes
+    wire [6:0]           f_cmdf = {f_pkt_d0 == CMD_PTIME_RD, f_pkt_d0 == CMD_DIG_RST, f_pkt_d0 == CMD_DIG_IO,
+                                   f_pkt_d0 == CMD_DIG_CFG, f_pkt_d0 == CMD_RESET, f_pkt_d0 == CMD_DEBUG,
+                                   f_pkt_d0 == CMD_HB};
     reg                  f_s2, f_s2_q, f_p2;
     reg [1:0]            f_kind;
     reg [3:0]            f_n;
@@ -32,7 +37,7 @@
         if (pkt_valid_i) begin
             f_kind  <= pkt_kind_i;
             f_n     <= pkt_n_i;
-            f_d0    <= pkt_d0_i;
+            f_d0    <= f_pkt_d0;
             f_d1    <= pkt_d1_i;
             f_d2    <= pkt_d2_i;
             f_tail  <= pkt_tail_i;
@@ -136,6 +141,7 @@
         if (pkt_valid_i) begin
             assume(!f_s2 && !f_p2);
             assume(pkt_kind_i != 2'd3);
+            assume(pkt_cmd_i == {|f_cmdf, f_cmdf});
             if (pkt_kind_i == KIND_CMD) assume(pkt_n_i >= 4'd1 && pkt_n_i <= 4'd8);
             if (pkt_kind_i == KIND_PROBE) assume(pkt_n_i == 4'd0);
         end

@@ -10,6 +10,8 @@
 //   its length byte; its kind, N and data bytes d0..d(N-1) are the packet's; a command's N is
 //   the length byte it accepted, 1..8 (N > 8 never reaches the executor as a command);
 //   pkt_valid_o never follows a clock with hold_i 1;
+// - pkt_cmd_o is pkt_d0_o's command flags, from the second clock after reset on (the two
+//   load together; the first load comes on the clock after reset, which sets every slot);
 // - from any reachable state, at most 10 bytes (address included) or TIMEOUT_TICKS idle
 //   ticks (tready 1, tvalid 0) bring the parser back to waiting for an address;
 // - s_axis_tready exact: 0 only in reset, or with hold_i while a probe/serialError waits to be
@@ -35,6 +37,10 @@
     // since the last byte.
     reg  [3:0]  f_nb;
     reg  [3:0]  f_tk;
+    reg         f_ld = 1'b0;  // pkt_d0_q and pkt_cmd_q have been loaded
+    wire [6:0]  f_cmdf = {pkt_d0_o == CMD_PTIME_RD, pkt_d0_o == CMD_DIG_RST, pkt_d0_o == CMD_DIG_IO,
+                          pkt_d0_o == CMD_DIG_CFG, pkt_d0_o == CMD_RESET, pkt_d0_o == CMD_DEBUG,
+                          pkt_d0_o == CMD_HB};
     wire        f_own  = f_addr == ADDR_OWN;
     wire        f_lastc = f_st == F_DATA && f_own && ({4'd0, f_cnt} + 8'd1 == f_len);
     wire        f_wait = s_axis_tready && !s_axis_tvalid && f_st != F_ADDR;
@@ -48,6 +54,7 @@
         f_rst_q <= rst;
         f_sv_q <= s_axis_tvalid; f_sr_q <= s_axis_tready; f_sd_q <= s_axis_tdata;
         f_hold_q <= hold_i;
+        if (pos_q[0]) f_ld <= 1'b1;
         f_exp <= 1'b0;
         if (f_pend && !hold_i) begin
             f_pend <= 1'b0;
@@ -121,6 +128,9 @@
                     assert((f_pd & f_mask) == (f_dv & f_mask));
                 end
             end
+            // d0's command flags.
+            assert(f_ld);
+            assert(pkt_cmd_o == {|f_cmdf, f_cmdf});
             // Back to waiting for an address within 10 bytes or TIMEOUT_TICKS idle ticks.
             if (!f_addr_wait) begin
                 assert(f_nb >= 4'd1 && f_nb <= 4'd9);

@@ -4,7 +4,9 @@
 // (pkt_valid_i) only on a clock after one with hold_o 0 (bsd_parser's props prove it), and
 // neither in reset nor on the clock after it (a packet takes at least two bytes);
 // stage 2 (s2_valid_i) is exactly the clock after pkt_valid_i (bsd_exec: a flop, reset);
-// reply_i and dio_rflx_i only with s2_valid_i, reply_n_i <= 8; rep_done_i only while
+// reply_i and dio_rflx_i only with s2_valid_i, reply_n_i <= 8; soft_reset_i (a cmdRESET in
+// stage 2, which has no reply) only with s2_valid_i and without reply_i, and rst (the core's
+// reset) on the next clock; rep_done_i only while
 // rep_req_o (bsd_pkt_tx tells only a waiting source). A reference holds at most one reply:
 // after reset the slot holds the power-up message (A, 2, CMD_MSG, statePowerReset); a reply
 // from stage 2 fills it with stage 2's N and bytes, rep_done_i empties it. Asserted: rep_req_o
@@ -14,9 +16,9 @@
 // reply bit) is exactly the clock the slot fills, the power-up message's included; a DIG_IO
 // RFLX value is an event of exactly the clock after stage 2 with stage 2's ID and level; stage
 // 2 always finds the slot free (nothing is overwritten or lost); hold_o = pkt_valid_i or a
-// packet in stage 2 or the slot full, exactly.
+// packet in stage 2 or the slot full or the clock after soft_reset_i, exactly.
     reg                f_past_valid = 1'b0;
-    reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q;
+    reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q, f_srst_q;
     reg                f_rep_full;
     reg [3:0]          f_n;
     reg [31:0]         f_data, f_tail;
@@ -34,6 +36,7 @@
         f_done_q  <= rep_done_i;
         f_reply_q <= reply_i;
         f_hold_q  <= hold_o;
+        f_srst_q  <= soft_reset_i && !rst;
         f_n_q     <= rep_n_o;
         f_data_q  <= rep_data_o;
         f_tail_q  <= rep_tail_o;
@@ -61,6 +64,8 @@
         if (rst || f_rst_q) assume(!pkt_valid_i);  // the parser needs two bytes after reset
         assume(s2_valid_i == (f_past_valid && f_pkt_q));
         if (reply_i || dio_rflx_i) assume(s2_valid_i);
+        if (soft_reset_i) assume(s2_valid_i && !reply_i);
+        if (f_past_valid && f_srst_q) assume(rst);
         assume(reply_n_i <= 4'd8);
         if (rep_done_i) assume(rep_req_o);
 
@@ -73,7 +78,7 @@
             end
             assert(dio_new_o == f_dio_q);
             if (f_dio_q) assert(dio_id_o == f_id_q && dio_val_o == f_val_q);
-            assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o));
+            assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o || f_srst_q));
             // Stage 2 finds the slot free.
             if (s2_valid_i) assert(!rep_req_o);
             // The reply's event: the clock the request rises (the power-up message's too).

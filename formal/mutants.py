@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # (job, task, file, what it breaks, original text, mutant text[, expected result])
 MUTANTS = [
     ("bsd_axis_skid", "prove", "bsd_axis_skid.v", "draining the skid sends the input word instead of the skid word",
-     "out_data_q   <= skid_q;", "out_data_q   <= s_axis_tdata;"),
+     "out_data_q <= skid_valid_q ? skid_q : s_axis_tdata;", "out_data_q <= s_axis_tdata;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "full flag never set: the RAM overflows",
      "wire        one_free  = (wr_inc == rd_q);", "wire        one_free  = 1'b0;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "a read while the output waits overwrites the read register: the head is lost",
@@ -38,7 +38,7 @@ MUTANTS = [
     ("bsd_drain", "prove", "bsd_drain.v", "the empty flag ignores whether the new entry has items",
      "empty_q   <= !(ev_valid_i && ev_items);", "empty_q   <= !ev_valid_i;"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",
-     "last_q  <= pos_q == n_q;", "last_q  <= pos_q == n_q + 4'd1;"),
+     "(hs ? pos_q == n_q : last_q)", "(hs ? pos_q == n_q + 4'd1 : last_q)"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "a reply's d4..d7 sent before its d0..d3",
      "wire [63:0] rep_bytes = {rep_data_i, rep_tail_i};", "wire [63:0] rep_bytes = {rep_tail_i, rep_data_i};", "UNKNOWN"),
     ("bsd_trans_latch", "prove", "bsd_trans_latch.v", "arming keeps the old sample: a level present at arming fires",

@@ -201,14 +201,15 @@ module brainstem_dio #(
     wire init_arm = |init_q;
 
     // -------------------------------------------------------------- parsing
-    wire       slot_hold;
-    // The clock of the reset itself holds too: a packet handed over then
-    // would meet the reply slot as the reset fills it with the power-up message.
-    wire       pkt_hold = slot_hold || soft_rst_q;
+    // The clock of the reset itself holds too (bsd_reply_slot's soft_reset_i):
+    // a packet handed over then would meet the reply slot as the reset fills
+    // it with the power-up message.
+    wire       pkt_hold;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
     wire [7:0] pkt_d0, pkt_d1, pkt_d2;
+    wire [7:0] pkt_cmd;
     wire [39:0] pkt_tail;
 
     bsd_parser #(.MODULE_ADDR(MODULE_ADDR), .RX_TIMEOUT_US(RX_TIMEOUT_US)) u_parser (
@@ -223,6 +224,7 @@ module brainstem_dio #(
         .pkt_kind_o    (pkt_kind),
         .pkt_n_o       (pkt_n),
         .pkt_d0_o      (pkt_d0),
+        .pkt_cmd_o     (pkt_cmd),
         .pkt_d1_o      (pkt_d1),
         .pkt_d2_o      (pkt_d2),
         .pkt_tail_o    (pkt_tail)
@@ -263,7 +265,7 @@ module brainstem_dio #(
         .pkt_valid_i     (pkt_valid),
         .pkt_kind_i      (pkt_kind),
         .pkt_n_i         (pkt_n),
-        .pkt_d0_i        (pkt_d0),
+        .pkt_cmd_i       (pkt_cmd),
         .pkt_d1_i        (pkt_d1),
         .pkt_d2_i        (pkt_d2),
         .pkt_tail_i      (pkt_tail),
@@ -308,6 +310,7 @@ module brainstem_dio #(
         .clk          (clk),
         .rst          (core_rst),
         .pkt_valid_i  (pkt_valid),
+        .soft_reset_i (soft_reset),
         .s2_valid_i   (s2_valid),
         .reply_i      (s2_reply),
         .reply_n_i    (s2_reply_n),
@@ -316,7 +319,7 @@ module brainstem_dio #(
         .dio_rflx_i   (s2_dio_rflx),
         .dio_id_i     (s2_dio_id),
         .dio_val_i    (s2_dio_val),
-        .hold_o       (slot_hold),
+        .hold_o       (pkt_hold),
         .rep_req_o    (rep_req),
         .rep_n_o      (rep_n),
         .rep_data_o   (rep_data),
@@ -585,7 +588,8 @@ module brainstem_dio #(
 
     // The queues never fill (sized above), and the heartbeat's request is
     // followed through its item.
-    wire unused_top = ^{evq_ready, outq_ready, tx_take, hb_req, rep_req};
+    // The executor takes d0 decoded (pkt_cmd), not the byte.
+    wire unused_top = ^{evq_ready, outq_ready, tx_take, hb_req, rep_req, pkt_d0};
 
 `ifndef SYNTHESIS
 `ifndef FORMAL  // Yosys takes no $fatal in an always block

@@ -29,24 +29,17 @@ module bsd_axis_skid #(
 
     wire advance = m_axis_tready || !out_valid_q;
 
+    // The two valid flags' next values are written as one expression each,
+    // not as enables: m_axis_tready (a consumer's handshake logic) then
+    // reaches a flop's data input through a gate or two, never its enable
+    // or reset pin.
     always @(posedge clk) begin
-        if (advance) begin
-            if (skid_valid_q) begin
-                out_data_q   <= skid_q;
-                out_valid_q  <= 1'b1;
-                skid_valid_q <= 1'b0;
-            end else begin
-                out_data_q  <= s_axis_tdata;
-                out_valid_q <= s_axis_tvalid;
-            end
-        end else if (s_axis_tvalid && !skid_valid_q) begin
-            skid_q       <= s_axis_tdata;
-            skid_valid_q <= 1'b1;
-        end
-        if (rst) begin
-            out_valid_q  <= 1'b0;
-            skid_valid_q <= 1'b0;
-        end
+        if (advance) out_data_q <= skid_valid_q ? skid_q : s_axis_tdata;
+        if (!advance && !skid_valid_q) skid_q <= s_axis_tdata;
+        // The output holds a word unless it advances with none to take.
+        out_valid_q  <= !rst && (!advance || skid_valid_q || s_axis_tvalid);
+        // The skid fills only while the output waits, and empties when it advances.
+        skid_valid_q <= !rst && !advance && (skid_valid_q || s_axis_tvalid);
     end
 
 `ifdef FORMAL

@@ -27,7 +27,7 @@ module bsd_exec #(
     input  wire                  pkt_valid_i,
     input  wire [1:0]            pkt_kind_i,
     input  wire [3:0]            pkt_n_i,
-    input  wire [7:0]            pkt_d0_i,
+    input  wire [7:0]            pkt_cmd_i,     // d0 decoded (bsd_parser's pkt_cmd_o)
     input  wire [7:0]            pkt_d1_i,
     input  wire [7:0]            pkt_d2_i,
     input  wire [39:0]           pkt_tail_i,    // d3..d7 (cmdDEBUG)
@@ -66,6 +66,9 @@ module bsd_exec #(
     `include "bsd_protocol.vh"
 
     localparam integer IODIR = 0;  // DIGCFG bit: 1 = input
+    // pkt_cmd_i's flags (bsd_parser's pkt_cmd_o)
+    localparam integer CMDF_HB = 0, CMDF_DEBUG = 1, CMDF_RESET = 2, CMDF_DIG_CFG = 3,
+                       CMDF_DIG_IO = 4, CMDF_DIG_RST = 5, CMDF_PTIME_RD = 6, CMDF_ANY = 7;
     localparam [7:0] NUM_PINS_W = NUM_PINS[7:0];
 
     // x < K for a constant K, as gates: synthesis folds the constant into a
@@ -134,7 +137,7 @@ module bsd_exec #(
     // simulator decodes a packet on its clock only, where wires would be
     // worked out every clock; synthesis gives the same gates either way.
     localparam integer DW = 34 + 3 * NUM_PINS + 17;
-    function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] d0, input [7:0] d1,
+    function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1,
                              input [5*NUM_PINS-1:0] cfg, input [NUM_PINS-1:0] level,
                              input [NUM_PINS-1:0] busy);
         reg [5:0]          dev_pin;
@@ -154,13 +157,14 @@ module bsd_exec #(
 
             // The packet's kind, command and length as single flags.
             is_cmd  = kind == KIND_CMD;
-            d0_cfg  = d0 == CMD_DIG_CFG;
-            d0_io   = d0 == CMD_DIG_IO;
-            d0_rst  = d0 == CMD_DIG_RST;
-            d0_time = d0 == CMD_PTIME_RD;
-            d0_dbg  = d0 == CMD_DEBUG;
-            d0_hb   = d0 == CMD_HB;
-            d0_rset = d0 == CMD_RESET;
+            // (d0 comes decoded, from flops: bsd_parser's pkt_cmd_o)
+            d0_cfg  = cmd[CMDF_DIG_CFG];
+            d0_io   = cmd[CMDF_DIG_IO];
+            d0_rst  = cmd[CMDF_DIG_RST];
+            d0_time = cmd[CMDF_PTIME_RD];
+            d0_dbg  = cmd[CMDF_DEBUG];
+            d0_hb   = cmd[CMDF_HB];
+            d0_rset = cmd[CMDF_RESET];
             d0_dig  = d0_cfg || d0_io || d0_rst || d0_time;
             n_ge2   = |n[3:1];
             n_ge3   = |n[3:2] || &n[1:0];
@@ -199,11 +203,11 @@ module bsd_exec #(
             cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
-            start   = starts(kind, n[3:1], d0, dev_pin, cfg[IODIR*NUM_PINS +: NUM_PINS], busy);
+            start   = starts(kind, n[3:1], cmd, dev_pin, cfg[IODIR*NUM_PINS +: NUM_PINS], busy);
             idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
                       (is_cmd && d0_io && n2 && !dev_ok) ||
                       (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
-            m_inv   = is_cmd && !(d0_dig || d0_dbg || d0_hb || d0_rset);
+            m_inv   = is_cmd && !cmd[CMDF_ANY];
             m_short = is_cmd && d0_dig && n1;
             cfgerr  = c_cfg && pin_ok && sel_fixed;
             cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
@@ -243,11 +247,11 @@ module bsd_exec #(
     // Whether the packet re-arms its pin (cfg_w || rst_w above), for the
     // re-arm strobes' clear: an if, not an AND per pin, so that synthesis
     // gives the condition all pins share to the flops' synchronous reset.
-    function rearms(input [1:0] kind, input [3:0] n, input [7:0] d0, input [7:0] d1);
+    function rearms(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1);
         begin
             rearms = kind == KIND_CMD && below(d1, NUM_PINS_W) &&
-                     ((d0 == CMD_DIG_CFG && (|n[3:2] || &n[1:0]) && !(|((ONE << d1[5:0]) & FIXED_MASK))) ||
-                      (d0 == CMD_DIG_RST && |n[3:1]));
+                     ((cmd[CMDF_DIG_CFG] && (|n[3:2] || &n[1:0]) && !(|((ONE << d1[5:0]) & FIXED_MASK))) ||
+                      (cmd[CMDF_DIG_RST] && |n[3:1]));
         end
     endfunction
 
@@ -255,12 +259,12 @@ module bsd_exec #(
     // start strobes' clear, as rearms() is the re-arm strobes': the strobes
     // then load the pin's one-hot line that sel_q loads too, and the start
     // is their shared synchronous clear, not an AND a timer.
-    function starts(input [1:0] kind, input [3:1] n, input [7:0] d0, input [5:0] dev_pin,
+    function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [5:0] dev_pin,
                     input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] busy);
         reg [NUM_PINS-1:0] sel;
         begin
             sel    = (ONE << dev_pin) & TIMER_MASK;
-            starts = kind == KIND_CMD && d0 == CMD_PTIME_RD && |n[3:1] && |(in & sel) && !(|(busy & sel));
+            starts = kind == KIND_CMD && cmd[CMDF_PTIME_RD] && |n[3:1] && |(in & sel) && !(|(busy & sel));
         end
     endfunction
 
@@ -296,7 +300,7 @@ module bsd_exec #(
         if (pkt_valid_i || rst) begin
             {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_cfg_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
-             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i,
+             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i,
                                                       cfg_i, level_i, timer_busy_i);
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
             s2_d2_q     <= pkt_d2_i;
@@ -317,9 +321,9 @@ module bsd_exec #(
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
         end else begin
-            if (!rearms(pkt_kind_i, pkt_n_i, pkt_d0_i, pkt_d1_i))
+            if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i))
                 rearm_q <= {NUM_PINS{1'b0}};
-            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_d0_i, pkt_d1_i[5:0], cfg_i[IODIR*NUM_PINS +: NUM_PINS],
+            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_d1_i[5:0], cfg_i[IODIR*NUM_PINS +: NUM_PINS],
                         timer_busy_i))
                 start_q <= {NUM_PINS{1'b0}};
         end

@@ -2,7 +2,9 @@
 `default_nettype none
 // Byte framing of host packets: address, N, d0 .. d(N-1). Hands each
 // complete packet that needs action to the executor as a one-clock pulse with
-// N and its data bytes (d0..d2 for the commands, d3..d7 for cmdDEBUG's echo).
+// N and its data bytes (d0..d2 for the commands, d3..d7 for cmdDEBUG's echo),
+// and d0 decoded into one flag per command the executor knows (pkt_cmd_o),
+// worked out as d0 arrives so that the executor's decisions start from flops.
 // Packets for other addresses are consumed silently; N > 8 resyncs on the
 // next byte; a partial packet is dropped after RX_TIMEOUT_US of waiting for a
 // byte.
@@ -21,6 +23,9 @@ module bsd_parser #(
     output wire [1:0] pkt_kind_o,
     output wire [3:0] pkt_n_o,
     output wire [7:0] pkt_d0_o,
+    // d0 is: [0] cmdHB, [1] cmdDEBUG, [2] cmdRESET, [3] cmdDIG_CFG, [4] cmdDIG_IO,
+    // [5] cmdDIG_RST, [6] cmdPTIME_RD, [7] any of these
+    output wire [7:0] pkt_cmd_o,
     output wire [7:0] pkt_d1_o,
     output wire [7:0] pkt_d2_o,
     output wire [39:0] pkt_tail_o    // d3..d7, d3 in the top byte (cmdDEBUG echoes them)
@@ -54,12 +59,14 @@ module bsd_parser #(
     reg  [1:0]    pkt_kind_q;
     reg  [3:0]    pkt_n_q;
     reg  [7:0]    pkt_d0_q, pkt_d1_q, pkt_d2_q;
+    reg  [7:0]    pkt_cmd_q;
     reg  [39:0]   pkt_tail_q;
 
     assign pkt_valid_o = pkt_valid_q;
     assign pkt_kind_o  = pkt_kind_q;
     assign pkt_n_o     = pkt_n_q;
     assign pkt_d0_o    = pkt_d0_q;
+    assign pkt_cmd_o   = pkt_cmd_q;
     assign pkt_d1_o    = pkt_d1_q;
     assign pkt_d2_o    = pkt_d2_q;
     assign pkt_tail_o  = pkt_tail_q;
@@ -97,6 +104,15 @@ module bsd_parser #(
     endfunction
     function len_over(input [7:0] b);  // > 8
         len_over = (|b[7:4]) | (b[3] & (|b[2:0]));
+    endfunction
+    // pkt_cmd_o's flags of a d0 byte.
+    function [7:0] cmd_flags(input [7:0] b);
+        reg [6:0] f;
+        begin
+            f = {b == CMD_PTIME_RD, b == CMD_DIG_RST, b == CMD_DIG_IO, b == CMD_DIG_CFG,
+                 b == CMD_RESET, b == CMD_DEBUG, b == CMD_HB};
+            cmd_flags = {|f, f};
+        end
     endfunction
     // N is 1..8 where it is read, so N = 1 shows in its low 3 bits alone.
     function len_one(input [2:0] b);
@@ -139,7 +155,10 @@ module bsd_parser #(
         // later bytes; the executor uses only the first N. No reset: from
         // reset to the first N every slot takes the offered byte.
         if (len_q) pkt_n_q <= s_axis_tdata[3:0];
-        if (pos_q[0]) pkt_d0_q <= s_axis_tdata;
+        if (pos_q[0]) begin
+            pkt_d0_q  <= s_axis_tdata;
+            pkt_cmd_q <= cmd_flags(s_axis_tdata);
+        end
         if (pos_q[1]) pkt_d1_q <= s_axis_tdata;
         if (pos_q[2]) pkt_d2_q <= s_axis_tdata;
         if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;

@@ -130,8 +130,6 @@ module bsd_pkt_tx #(
 
     always @(posedge clk) begin
         if (load) begin
-            valid_q  <= 1'b1;
-            last_q   <= 1'b0;  // a packet is at least A, N
             pos_q    <= 4'd0;
             n_q      <= n;
             kind_q   <= kind;
@@ -161,27 +159,28 @@ module bsd_pkt_tx #(
             sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && kind_q == KIND_REPLY};
             sel_hcmd_q  <= sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY;
             pos_q   <= pos_q + 4'd1;
-            last_q  <= pos_q == n_q;  // the next byte is d(N-1)
             first_q <= 1'b0;
-            if (last_q) valid_q <= 1'b0;
         end
+        // valid_q, last_q and credit_q, whose enables would be the deepest
+        // (load || hs || swap, and the reset), take their next values as one
+        // expression each: the handshake then reaches their data inputs, not CEN.
+        // A packet is at least A, N: a load clears last_q; the next byte is
+        // d(N-1) when pos_q reaches N.
+        valid_q <= !rst && (load || (valid_q && !(hs && last_q)));
+        last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
         swapped_q <= swap;
-        if (flush_i && !swap) credit_q <= 1'b0;  // finished, credited to nobody
-        if (load) credit_q <= 1'b1;
+        // (one expression too) a flush without a swap: finished, credited to nobody
+        credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
         if (swap) begin
             // The address is on offer already; the rest becomes `2, 0x80, 4`,
             // which the reply slot holds from the next clock.
             kind_q     <= KIND_REPLY;
             n_q        <= MSG_N[3:0];
-            last_q     <= 1'b0;
         end
         if (rst) begin
-            valid_q   <= 1'b0;
-            last_q    <= 1'b0;
             pos_q     <= 4'd0;
             first_q   <= 1'b0;
             swapped_q <= 1'b0;
-            credit_q  <= 1'b0;
             n_q     <= 4'd0;
             kind_q  <= 2'd0;
             {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;

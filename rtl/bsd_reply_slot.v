@@ -19,6 +19,7 @@ module bsd_reply_slot (
     input  wire                clk,
     input  wire                rst,
     input  wire                pkt_valid_i,   // the parser hands a packet to the executor
+    input  wire                soft_reset_i,  // stage 2 is a cmdRESET: the core resets on the next clock
     // the executor's stage 2 (bsd_exec)
     input  wire                s2_valid_i,    // a packet is in stage 2
     input  wire                reply_i,       // it has a reply
@@ -52,7 +53,8 @@ module bsd_reply_slot (
     reg [5:0]          dio_id_q;
     reg                dio_val_q;
     reg                dio_new_q;
-    reg                boot_q;       // the clock after reset: the power-up message's event
+    reg                new_q;        // the slot has filled: reply_q, or the clock after reset
+                                     // (the power-up message's event), as one flop
     reg                pending_q;    // see hold_o
 
     assign rep_req_o   = reply_q || rep_wait_q;
@@ -61,27 +63,29 @@ module bsd_reply_slot (
     assign rep_tail_o  = rep_tail_q;
     assign dio_id_o    = dio_id_q;
     assign dio_val_o   = dio_val_q;
-    assign rep_new_o   = reply_q || boot_q;
+    assign rep_new_o   = new_q;
     assign dio_new_o   = dio_new_q;
 
     // hold_o: the slot is full, or a packet is on its way through the stages
-    // and may fill it. pending_q is that condition for every stage after
-    // the first, worked out a clock ahead (from each flag's next value) so
-    // that hold_o, which gates the parser's s_axis_tready, is one gate.
+    // and may fill it, or the core resets (the clock after soft_reset_i, when
+    // the reset fills the slot with the power-up message). pending_q is that
+    // condition for every stage after the first, worked out a clock ahead
+    // (from each flag's next value) so that hold_o, which gates the parser's
+    // s_axis_tready, is one gate of two flops.
     wire rep_wait_d = rep_req_o && !rep_done_i;
     assign hold_o = pkt_valid_i || pending_q;
 
     always @(posedge clk) begin
         reply_q    <= reply_i;
         rep_wait_q <= rep_wait_d;
-        pending_q  <= pkt_valid_i || reply_i || rep_wait_d;
+        pending_q  <= pkt_valid_i || reply_i || rep_wait_d || soft_reset_i;
         if (s2_valid_i && !rep_req_o) begin
             rep_n_q    <= reply_n_i;
             rep_data_q <= reply_data_i;
             rep_tail_q <= reply_tail_i;
         end
         dio_new_q <= dio_rflx_i;
-        boot_q    <= 1'b0;
+        new_q     <= reply_i;
         if (dio_rflx_i) begin
             dio_id_q    <= dio_id_i;
             dio_val_q   <= dio_val_i;
@@ -97,7 +101,7 @@ module bsd_reply_slot (
             dio_id_q    <= 6'd0;
             dio_val_q   <= 1'b0;
             dio_new_q   <= 1'b0;
-            boot_q      <= 1'b1;
+            new_q       <= 1'b1;
         end
     end
 

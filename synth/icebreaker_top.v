@@ -100,16 +100,19 @@ module icebreaker_top #(
 
     // -------------------------------------------------- LEDs
     // 2^24 clocks = 1.4 s at 12 MHz; the red LED is on for its last eighth.
+    // err_q[21] is the red light after an error: it counts down from 22'h3F_FFFF
+    // while bit 21 is set, so it is lit for 2^21 clocks (~170 ms), and the
+    // count's enable is that one flop, not a compare of all 22 bits.
     reg [23:0] blink_q = 24'd0;
-    reg [21:0] err_q   = 22'd0;  // 2^21 clocks (~170 ms) of red after an error
+    reg [21:0] err_q   = 22'd0;
     always @(posedge CLK) begin
         blink_q <= blink_q + 1'b1;
-        if (err_q != 22'd0) err_q <= err_q - 1'b1;
+        if (err_q[21]) err_q <= err_q - 1'b1;
         if (frame_err || rx_overflow) err_q <= 22'h3F_FFFF;
         if (rst) err_q <= 22'd0;
     end
 
     assign LEDG_N = !link_up;
-    assign LEDR_N = !((&blink_q[23:21]) || (err_q != 22'd0));
+    assign LEDR_N = !((&blink_q[23:21]) || err_q[21]);
 endmodule
 `default_nettype wire

@@ -18,7 +18,8 @@ after every clock.
 cmdDEBUG (23): any N from 1 to 8 is echoed as the reply, `A, N, 23, d1 .. d(N-1)` (its
 bytes past the fourth on reply_tail_o, taken from pkt_tail_i = d3..d7). The block's input
 contract (its parser) hands over packets at least three clocks apart; the block checks that
-in simulation, so every test spaces its packets so.
+in simulation, so every test spaces its packets so. The tests speak of d0; the block takes
+it decoded as the parser hands it over (pkt_cmd_i, cmd_flags below).
 """
 
 from __future__ import annotations
@@ -35,6 +36,15 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
+
+# bsd_parser's pkt_cmd_o: d0 as one flag per command the executor knows, and whether it is one.
+CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
+
+
+def cmd_flags(d0: int) -> int:
+    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
+    return f | (0x80 if f else 0)
+
 
 BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},
@@ -159,12 +169,20 @@ class ExecModel:
 
 
 class ExecTB(ClockedTB):
-    INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_d0_i=0, pkt_d1_i=0,
+    INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_cmd_i=cmd_flags(0), pkt_d1_i=0,
                   pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
     OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_idx_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
                         "reply_tail_o", "dio_id_o", "dio_val_o")
+
+    def drive(self, rst: int = 0, **inputs: int) -> dict[str, int]:
+        """As ClockedTB's, with d0 put on the ports as bsd_parser hands it over, decoded
+        (pkt_cmd_i); the values returned (the model's) name d0 itself, pkt_d0_i."""
+        d0 = inputs.pop("pkt_d0_i", self.cur.pop("pkt_d0_i", 0))
+        vals = super().drive(rst, pkt_cmd_i=cmd_flags(d0), **inputs)
+        vals["pkt_d0_i"] = d0
+        return vals
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "exec")

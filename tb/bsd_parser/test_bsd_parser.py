@@ -27,6 +27,8 @@ DESIGN.md decisions 2 and 10), written from the contract:
   dropped on the TIMEOUT_TICKS-th such strobe, TIMEOUT_TICKS = ceil(US / 1.6) + 1,
   the least count that never drops before RX_TIMEOUT_US of idle time whatever the
   tick phase: (TIMEOUT_TICKS - 1) * 1.6 us >= RX_TIMEOUT_US. RX_TIMEOUT_US = 0: never.
+- a command's d0 also comes decoded (pkt_cmd_o, the block's header): one flag per command
+  the executor knows (cmd_flags below), checked with every command handed over.
 """
 
 from __future__ import annotations
@@ -35,9 +37,18 @@ import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
-from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD, KIND_PROBE,
-                          KIND_SERIAL, MAX_N)
+from bsd_protocol import (ADDR_RESYNC, CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB,
+                          CMD_PTIME_RD, CMD_RESET, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD,
+                          KIND_PROBE, KIND_SERIAL, MAX_N)
 from clocked_tb import ClockedTB
+
+# pkt_cmd_o: [0] cmdHB, [1] cmdDEBUG, [2] cmdRESET, [3..6] cmdDIG_CFG, _IO, _RST, cmdPTIME_RD, [7] any.
+CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
+
+
+def cmd_flags(d0: int) -> int:
+    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
+    return f | (0x80 if f else 0)
 import runner
 from runner import hdl_params
 from seeding import make_rng
@@ -141,6 +152,9 @@ class ParserTB(ClockedTB):
         d = self.dut
         if not int(d.pkt_valid_o.value):
             return None
+        if int(d.pkt_kind_o.value) == KIND_CMD:
+            d0 = int(d.pkt_d0_o.value)
+            assert int(d.pkt_cmd_o.value) == cmd_flags(d0), f"pkt_cmd_o {int(d.pkt_cmd_o.value):#x} for d0 {d0}"
         return (int(d.pkt_kind_o.value), int(d.pkt_n_o.value),
                 [int(d.pkt_d0_o.value), int(d.pkt_d1_o.value), int(d.pkt_d2_o.value)])
 
@@ -228,12 +242,14 @@ OTHER_ADDRS = [a for a in (0, 1, 3, 4, 0x7F, 0x80, 0xAC, 0xAE, 0xFE, 0xFF)
 
 @cocotb.test()
 async def test_own_packets(dut):
-    """Own-address packets of N = 1..8: KIND_CMD with N and the first three data bytes."""
+    """Own-address packets of N = 1..8: KIND_CMD with N and the first three data bytes
+    (d0 a command the executor knows, or any byte; pkt_cmd_o checked with each)."""
     tb = ParserTB(dut)
     rng = make_rng(dut, "own packets")
     await tb.reset()
     for n in list(range(1, 9)) * 3:
         data = [rng.randrange(256) for _ in range(n)]
+        data[0] = rng.choice([*CMD_FLAGS, data[0]])
         pkts = await tb.send([MODULE_ADDR, n, *data])
         assert len(pkts) == 1, pkts
         kind, got_n, d = pkts[0]

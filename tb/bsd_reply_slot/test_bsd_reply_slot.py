@@ -8,7 +8,8 @@ and the block's header comment: stage 2's reply becomes the request on the next 
 clocks after the last byte) and stays until rep_done_i; rep_new_o (the event queue's reply
 bit) is the clock the request rises; a DIG_IO RFLX value is an event of the clock after
 dio_rflx_i (dio_new_o with its ID and level) and never holds anything; hold_o = pkt_valid_i,
-or a packet in the stages, or the slot full.
+or a packet in the stages, or the slot full, or the clock after soft_reset_i (a cmdRESET in
+stage 2: the core's reset, which fills the slot, comes on that clock).
 
 SlotModel is that text; all outputs are sampled before each rising edge and compared with
 it on every clock. The system test plays the parser (a packet only while hold_o is 0),
@@ -66,13 +67,13 @@ class SlotModel:
             self.reply = (n, [(v["reply_data_i"] >> (24 - 8 * j)) & 0xFF for j in range(4)])
         self.decided, self.waiting, self.boot = bool(v["reply_i"]), waiting, False
         self.dio = (v["dio_id_i"], v["dio_val_i"]) if v["dio_rflx_i"] else None
-        self.in_stages = bool(v["pkt_valid_i"] or v["reply_i"] or waiting)
+        self.in_stages = bool(v["pkt_valid_i"] or v["reply_i"] or waiting or v["soft_reset_i"])
 
 
 class SlotTB(ClockedTB):
-    INPUTS = dict(pkt_valid_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
+    INPUTS = dict(pkt_valid_i=0, soft_reset_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
                   dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0)
-    PULSES = ("pkt_valid_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
+    PULSES = ("pkt_valid_i", "soft_reset_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
     OUTPUTS = ("hold_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
                "dio_id_o", "dio_val_o")
 
@@ -151,6 +152,18 @@ async def test_reply_latency_and_hold(dut) -> None:
     holds = [(await tb.step(pkt_valid_i=1))["hold_o"], (await tb.step(s2_valid_i=1))["hold_o"],
              (await tb.step())["hold_o"]]
     assert holds == [1, 1, 0], holds
+
+
+@cocotb.test()
+async def test_soft_reset_holds(dut) -> None:
+    """A cmdRESET in stage 2 (soft_reset_i, no reply) holds the parser on the next clock,
+    the clock of the core's reset, and only then."""
+    tb = SlotTB(dut)
+    await free(tb)
+    holds = [(await tb.step(pkt_valid_i=1))["hold_o"],
+             (await tb.step(s2_valid_i=1, soft_reset_i=1))["hold_o"],
+             (await tb.step())["hold_o"], (await tb.step())["hold_o"]]
+    assert holds == [1, 1, 1, 0], holds
 
 
 @cocotb.test()
