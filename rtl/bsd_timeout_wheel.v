@@ -120,11 +120,17 @@ module bsd_timeout_wheel #(
             wire         w_en_g = clear || (insert && scan3_q[5:4] == g);
             /* verilator lint_on WIDTHEXPAND */
             integer      b;
+            // The masked write as a word write whose unmasked bits are the
+            // slot's own (yosys turns that feedback into the RAM's bit
+            // mask): a simulator then keeps one pending write, not one a bit.
+            reg [GW-1:0] w_word;
+            always @* begin
+                w_word = wheel[w_addr];
+                for (b = 0; b < GW; b = b + 1)
+                    if (w_mask[b]) w_word[b] = w_bit;
+            end
             always @(posedge clk) begin
-                if (w_en_g) begin
-                    for (b = 0; b < GW; b = b + 1)
-                        if (w_mask[b]) wheel[w_addr][b] <= w_bit;
-                end
+                if (w_en_g) wheel[w_addr] <= w_word;
                 if (tick1_q) rd_q <= wheel[slot_q];
             end
             assign expire_q[16 * g +: GW] = rd_q;
