@@ -7,7 +7,7 @@
 // pins' latches only (fixed pins too). A fixed pin's cfg_o is FIXED_CFG's bits 4:0 on
 // every clock, reset included. cfg_o and out_o (the read-back) equal the reference after
 // every clock, and on a write every other pin keeps its value. oe_o is IODIR (bit 0) inverted
-// on every clock. cfg_o is field-major (bit k of pin p at k*NUM_PINS + p); the reference
+// and watch_o is ENA (bit 1) AND IODIR on every clock. cfg_o is field-major (bit k of pin p at k*NUM_PINS + p); the reference
 // keeps pin-major words (pin p's bits at 5*p) and f_out_cfg below regroups cfg_o to match.
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_cfg_we_q, f_out_we_q;
@@ -45,6 +45,7 @@
             if (FIXED_MASK[f_i]) assert(f_out_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
             if (f_past_valid) begin
                 assert(oe_o[f_i] == !f_out_cfg[5*f_i]);
+                assert(watch_o[f_i] == (f_out_cfg[5*f_i + 1] && f_out_cfg[5*f_i]));
                 assert(f_out_cfg[5*f_i +: 5] == f_cfg[5*f_i +: 5]);
                 assert(out_o[f_i] == f_out[f_i]);
                 if (f_rst_q) begin

@@ -5,7 +5,8 @@
 // kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_cmd_i the flags of a free
 // d0 byte (f_pkt_d0), as bsd_parser decodes it (its props prove it); pkt_tail_i unchanged on the
 // clock after pkt_valid_i (the parser writes no data byte before the clock after stage 2).
-// cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock.
+// cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock
+// (cfg_i is unchanged on the clock after: stage 2 looks up a DIG_CFG read's bits 4:1).
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
 // Asserted against a reference decoder written from PROTOCOL.md §2/§3 (precedence
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
@@ -146,6 +147,8 @@
             if (pkt_kind_i == KIND_PROBE) assume(pkt_n_i == 4'd0);
         end
         if (f_s2) assume(pkt_tail_i == f_tail);
+        // Only this block's stage 2 writes cfg_i (through bsd_cfg_regs), from the clock after it.
+        if (f_s2) assume(cfg_i == f_cfg);
 
         if (f_past_valid) begin
             assert(s2_valid_o == f_s2);

@@ -19,7 +19,7 @@
             f_ref   <= level_i;
         end else begin
             if (fire) f_fired <= 1'b1;
-            if (armed_q && ena_i && input_i && sample_i) f_ref <= level_i;
+            if (armed_q && watch_i && sample_i) f_ref <= level_i;
         end
         if (rst) f_fired <= 1'b1;  // no arm yet
     end
@@ -31,7 +31,7 @@
             if (fire) begin
                 assert(!f_fired);                    // one fire per arm
                 assert(level_i != f_ref);            // a change from the reference level
-                assert(level_i == trg_i && ena_i && input_i && sample_i);
+                assert(level_i == trg_i && watch_i && sample_i);
             end
             if (f_arm_q) begin
                 assert(!fire_o);                     // re-arm wins on the same clock
@@ -48,5 +48,5 @@
     always @(*) if (f_past_valid && !rst) begin
         cover(fire_o);
         cover(f_fires && fire_o && !trg_i);          // a second fire (after a re-arm)
-        cover(f_arm_q && level_i == trg_i && ena_i && input_i && sample_i && armed_q && level_i != prev_q);
+        cover(f_arm_q && level_i == trg_i && watch_i && sample_i && armed_q && level_i != prev_q);
     end

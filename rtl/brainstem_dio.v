@@ -233,6 +233,7 @@ module brainstem_dio #(
     // ------------------------------------------------------------ execution
     wire [5*NUM_PINS-1:0] cfg;
     wire [NUM_PINS-1:0]   out_latch;
+    wire [NUM_PINS-1:0]   pin_watch;
     wire [NUM_PINS-1:0]   timer_busy;
     wire                  cfg_we, out_we;
     wire [NUM_PINS-1:0]   wr_pin_sel;
@@ -345,7 +346,8 @@ module brainstem_dio #(
         .out_wdata_i (out_wdata),
         .cfg_o       (cfg),
         .out_o       (out_latch),
-        .oe_o        (pin_oe)
+        .oe_o        (pin_oe),
+        .watch_o     (pin_watch)
     );
 
     // --------------------------------------------------------- per-pin blocks
@@ -359,9 +361,8 @@ module brainstem_dio #(
         .clk      (clk),
         .rst      (core_rst),
         .arm_i    (rearm | (FIXED_ENA & {NUM_PINS{init_arm}})),
-        .ena_i    (cfg[1*NUM_PINS +: NUM_PINS]),
+        .watch_i  (pin_watch),
         .trg_i    (cfg[2*NUM_PINS +: NUM_PINS]),
-        .input_i  (cfg[0*NUM_PINS +: NUM_PINS]),
         .sample_i (poll),
         .level_i  (level),
         .fire_o   (raw_trans)

@@ -8,6 +8,9 @@
 // The pins are addressed by a one-hot sel_i, decoded once by bsd_exec: each
 // pin's flops then take a shared data bus under an enable of their own (one
 // gate a pin, no data mux), and the per-pin loop runs only on a write.
+// IODIR is kept inverted only (the output enable, oe_o), and the flops it
+// frees keep ENA AND IODIR (watch_o): the transition latch then watches a pin
+// on one bit of state rather than two, which saves it a LUT a pin.
 module bsd_cfg_regs #(
     parameter integer               NUM_PINS   = 5,
     parameter [NUM_PINS-1:0]        FIXED_MASK = 0,
@@ -22,7 +25,8 @@ module bsd_cfg_regs #(
     input  wire                  out_wdata_i,
     output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0, field-major
     output wire [NUM_PINS-1:0]   out_o,        // every pin's output latch
-    output wire [NUM_PINS-1:0]   oe_o          // every pin's output enable: !IODIR
+    output wire [NUM_PINS-1:0]   oe_o,         // every pin's output enable: !IODIR
+    output wire [NUM_PINS-1:0]   watch_o       // every pin's ENA && IODIR: its latch watches it
 );
     localparam [4:0] CFG_RESET = 5'b00001;  // input, latch disarmed
 
@@ -40,11 +44,14 @@ module bsd_cfg_regs #(
     /* verilator coverage_on */
     localparam [5*NUM_PINS-1:0] FIXED_F = fixed_fields(0);
 
-    reg [5*NUM_PINS-1:0] cfg_q;   // field-major; a fixed pin's bits are never read
+    // Field-major, DIGCFG bits 4:1 (bit 0, IODIR, is oe_q's inverse); a
+    // fixed pin's bits are never read.
+    reg [5*NUM_PINS-1:NUM_PINS] cfg_q;
     reg [NUM_PINS-1:0]   out_q;
-    // The output enable is IODIR inverted, kept in flops of its own so that
-    // the pad's enable needs no gate per pin.
+    // The output enable is IODIR inverted, so that the pad's enable needs no
+    // gate per pin; the readers of IODIR invert it inside their own gates.
     reg [NUM_PINS-1:0]   oe_q;
+    reg [NUM_PINS-1:0]   watch_q;
     integer k, p;
 
     always @(posedge clk) begin
@@ -53,9 +60,10 @@ module bsd_cfg_regs #(
         if (cfg_we_i) begin
             for (p = 0; p < NUM_PINS; p = p + 1) begin
                 if (sel_i[p]) begin
-                    for (k = 0; k < 5; k = k + 1)
+                    for (k = 1; k < 5; k = k + 1)
                         cfg_q[k*NUM_PINS + p] <= cfg_wdata_i[k];
-                    oe_q[p] <= !cfg_wdata_i[0];
+                    oe_q[p]    <= !cfg_wdata_i[0];
+                    watch_q[p] <= cfg_wdata_i[1] && cfg_wdata_i[0];
                 end
             end
         end
@@ -64,22 +72,26 @@ module bsd_cfg_regs #(
                 if (sel_i[p]) out_q[p] <= out_wdata_i;
         end
         if (rst) begin
-            for (k = 0; k < 5; k = k + 1)
+            for (k = 1; k < 5; k = k + 1)
                 cfg_q[k*NUM_PINS +: NUM_PINS] <= {NUM_PINS{CFG_RESET[k]}};
-            oe_q  <= {NUM_PINS{!CFG_RESET[0]}};
+            oe_q    <= {NUM_PINS{!CFG_RESET[0]}};
+            watch_q <= {NUM_PINS{CFG_RESET[1] && CFG_RESET[0]}};
             out_q <= {NUM_PINS{1'b0}};
         end
     end
 
+    assign cfg_o[0 +: NUM_PINS] = (~oe_q & ~FIXED_MASK) | (FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
     genvar g;
     generate
-        for (g = 0; g < 5; g = g + 1) begin : g_field
+        for (g = 1; g < 5; g = g + 1) begin : g_field
             assign cfg_o[g*NUM_PINS +: NUM_PINS] = (cfg_q[g*NUM_PINS +: NUM_PINS] & ~FIXED_MASK) |
                                                    (FIXED_F[g*NUM_PINS +: NUM_PINS] & FIXED_MASK);
         end
     endgenerate
     assign out_o = out_q;
     assign oe_o  = (oe_q & ~FIXED_MASK) | (~FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
+    assign watch_o = (watch_q & ~FIXED_MASK) |
+                     (FIXED_F[1*NUM_PINS +: NUM_PINS] & FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
 
 `ifdef FORMAL
 `include "bsd_cfg_regs_props.vh"

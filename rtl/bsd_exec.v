@@ -8,9 +8,10 @@
 // packet alone tells, with the contract's precedence (cmdInvalid,
 // cmdTooShort, the command's own error, then the action and cmdTooLong). The
 // second drives the strobes and completes the reply with what the pin's
-// IODIR and its timer's start decide, and whether a DIG_IO read sends its
-// value on RFLX. Packets come at least three clocks apart, so the stages
-// never overlap. cmdDEBUG's echo takes d3..d7 straight from the parser's
+// IODIR and its timer's start decide (and a DIG_CFG read's other DIGCFG
+// bits, looked up there), and whether a DIG_IO read sends its value on
+// RFLX. Packets come at least three clocks apart, so the stages never
+// overlap. cmdDEBUG's echo takes d3..d7 straight from the parser's
 // registers in stage 2: the parser writes no data byte before the clock
 // after stage 2, when the reply slot has taken them. The decision goes to
 // bsd_reply_slot, which holds the waiting reply and the waiting DIG_IO RFLX
@@ -136,21 +137,19 @@ module bsd_exec #(
     // called only in the branch of a packet's clock (and of reset): a
     // simulator decodes a packet on its clock only, where wires would be
     // worked out every clock; synthesis gives the same gates either way.
-    localparam integer DW = 34 + 3 * NUM_PINS + 17;
+    localparam integer DW = 30 + 3 * NUM_PINS + 17;
     function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1,
-                             input [5*NUM_PINS-1:0] cfg, input [NUM_PINS-1:0] level,
+                             input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] level,
                              input [NUM_PINS-1:0] busy);
         reg [5:0]          dev_pin;
         reg                is_cmd, d0_cfg, d0_io, d0_rst, d0_time, d0_dbg, d0_hb, d0_rset, d0_dig;
         reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_out, c_rst, c_time;
         reg [NUM_PINS-1:0] sel;
-        reg [4:0]          look_cfg;
         reg                look_level, look_in, sel_fixed, sel_timer;
         reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
         reg                serial, probe, long;
         reg [7:0]          b0, b1;
         reg [3:0]          rn;
-        integer            k;
         begin
             // A `pin` byte is the whole byte; a DEVCODE's pin is bits 5:0.
             dev_pin = d1[5:0];
@@ -179,15 +178,14 @@ module bsd_exec #(
 
             // The addressed pin as a one-hot; no line is set for a pin beyond
             // NUM_PINS - 1. A `pin` byte must match whole (bits 7:6 zero); a
-            // DEVCODE's pin is its bits 5:0. cfg is field-major (bsd_cfg_regs):
-            // each DIGCFG field of all pins is one slice, picked with the
-            // one-hot by an AND-OR.
+            // DEVCODE's pin is its bits 5:0. The pin's IODIR, level and busy
+            // bit are picked with the one-hot by an AND-OR (the DIG_CFG read's
+            // other bits in stage 2).
             sel = ONE << dev_pin;
 
             // The addressed pin's state; zero for a pin beyond the last.
-            for (k = 0; k < 5; k = k + 1) look_cfg[k] = |(cfg[k*NUM_PINS +: NUM_PINS] & sel);
             look_level = |(level & sel);
-            look_in    = look_cfg[IODIR];
+            look_in    = |(in & sel);
             sel_fixed  = |(sel & FIXED_MASK);
             sel_timer  = |(sel & TIMER_MASK);
 
@@ -203,7 +201,7 @@ module bsd_exec #(
             cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
-            start   = starts(kind, n[3:1], cmd, dev_pin, cfg[IODIR*NUM_PINS +: NUM_PINS], busy);
+            start   = starts(kind, n[3:1], cmd, dev_pin, in, busy);
             idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
                       (is_cmd && d0_io && n2 && !dev_ok) ||
                       (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
@@ -225,7 +223,7 @@ module bsd_exec #(
                  ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
             rn = probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? n : MSG_N[3:0];
 
-            stage1 = {b0, b1, rn, long, PIN_ID_W + dev_pin, look_cfg, look_level, sel_fixed, sel,
+            stage1 = {b0, b1, rn, long, PIN_ID_W + dev_pin, look_in, look_level, sel_fixed, sel,
                       TIMER_NUM[6*dev_pin +: 6],
                       // the flags, cleared on a clock without a packet
                       probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
@@ -283,7 +281,7 @@ module bsd_exec #(
     reg [2:0]          s2_d1_q;       // d1's bits 7 (HOST), 6 (RFLX) and 0
     reg [7:0]          s2_d2_q;
     reg [5:0]          dev_id_q;      // the DIG_IO pin's device ID
-    reg [4:0]          pin_cfg_q;
+    reg                pin_in_q;      // the pin's IODIR
     reg                pin_level_q, pin_fixed_q;
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q;
@@ -298,10 +296,11 @@ module bsd_exec #(
     always @(posedge clk) begin
         s2_valid_q <= pkt_valid_i;
         if (pkt_valid_i || rst) begin
-            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_cfg_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
+            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
              hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i,
-                                                      cfg_i, level_i, timer_busy_i);
+                                                      cfg_i[IODIR*NUM_PINS +: NUM_PINS], level_i,
+                                                      timer_busy_i);
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
             s2_d2_q     <= pkt_d2_i;
         end
@@ -332,7 +331,7 @@ module bsd_exec #(
     // ---------------------------------------------------- stage 2: execute
     wire       dev_host = s2_d1_q[2];
     wire       dev_rflx = s2_d1_q[1];
-    wire       in       = pin_cfg_q[IODIR];
+    wire       in       = pin_in_q;
 
     assign cfg_we_o      = cfg_we_q;
     assign out_we_o      = out_we_q;
@@ -365,7 +364,19 @@ module bsd_exec #(
                                  pt_q   ? (!in ? MSG_CMD_INDEX_ERR :
                                            started_q ? MSG_CMD_TOO_LONG : MSG_TMR_CONFLICT) :
                                  b1_q;
-    assign reply_data_o[15:8]  = ({8{cfg_rd_q}} & {pin_fixed_q, 2'b00, pin_cfg_q}) |
+    // The DIG_CFG read's DIGCFG bits 4:1 of the pin (sel_q) are looked up
+    // here, not in stage 1 (only the reply needs them): an AND-OR over the
+    // pins with a select that comes from flops takes about half the LUTs of
+    // one with the select decoded in the same clock, whose decoder synthesis
+    // merges into each field's mux (64 pins: ~40 LUT4 a field, not ~90).
+    // cfg_i is the same as on stage 1's clock: only this packet's stage 2
+    // writes it, from the clock after. (A ?: with the AND-ORs written out,
+    // not an AND or a function, so that a simulator works them out only for
+    // a read.)
+    assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00, |(cfg_i[4*NUM_PINS +: NUM_PINS] & sel_q),
+                                              |(cfg_i[3*NUM_PINS +: NUM_PINS] & sel_q),
+                                              |(cfg_i[2*NUM_PINS +: NUM_PINS] & sel_q),
+                                              |(cfg_i[1*NUM_PINS +: NUM_PINS] & sel_q), pin_in_q} : 8'd0) |
                                  ({8{dbg_q}} & s2_d2_q) | {7'd0, io_r_q && pin_level_q};
     assign reply_data_o[7:0]   = pkt_tail_i[39:32];   // only cmdDEBUG's echo sends it
     // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).

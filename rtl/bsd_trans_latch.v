@@ -6,15 +6,18 @@
 // clock as a matching edge wins (the edge becomes the new baseline). All pins
 // are one set of vector operations rather than an instance per pin: a model
 // built by Verilator then works on a few words a clock, not on every pin's bits.
+// A pin is watched on one bit, ENA && IODIR (bsd_cfg_regs keeps it), and
+// the sample is part of the edge test (hit): each of the three flops then
+// takes a LUT4 and the previous level's enable a fourth, where the two bits
+// took five.
 module bsd_trans_latch #(
     parameter integer WIDTH = 1
 ) (
     input  wire             clk,
     input  wire             rst,
     input  wire [WIDTH-1:0] arm_i,     // DIG_CFG set, DIG_RST, or the power-up arm
-    input  wire [WIDTH-1:0] ena_i,     // DIGCFG ENA
+    input  wire [WIDTH-1:0] watch_i,   // DIGCFG ENA && IODIR: the latch only watches inputs
     input  wire [WIDTH-1:0] trg_i,     // DIGCFG TRG: 1 fires on 0->1, 0 on 1->0
-    input  wire [WIDTH-1:0] input_i,   // DIGCFG IODIR: the latch only watches inputs
     input  wire             sample_i,  // POLL_HZ strobe, common to all pins
     input  wire [WIDTH-1:0] level_i,   // synchronized pad levels
     output wire [WIDTH-1:0] fire_o     // one-clock pulses
@@ -23,18 +26,26 @@ module bsd_trans_latch #(
     reg [WIDTH-1:0] prev_q;   // meaningful only while armed (an arm loads it): no reset
     reg [WIDTH-1:0] fire_q;
 
-    wire [WIDTH-1:0] active = armed_q & ena_i & input_i & {WIDTH{sample_i}};
-    // A change from the previous sample to the TRG level.
-    wire [WIDTH-1:0] hit    = ~(level_i ^ trg_i) & (prev_q ^ trg_i);
-    wire [WIDTH-1:0] fire   = active & hit;
-    wire [WIDTH-1:0] load   = arm_i | active;
+    integer i;
+
+    // A sample that changes from the previous one to the TRG level.
+    wire [WIDTH-1:0] hit = {WIDTH{sample_i}} & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
+    wire [WIDTH-1:0] watched = armed_q & watch_i;
+    wire [WIDTH-1:0] fire    = watched & hit;
+    wire [WIDTH-1:0] load    = arm_i | (watched & {WIDTH{sample_i}});
 
     assign fire_o = fire_q;
 
     always @(posedge clk) begin
         fire_q  <= fire & ~arm_i;
         armed_q <= arm_i | (armed_q & ~fire);
-        prev_q  <= (load & level_i) | (~load & prev_q);
+        // An enable a bit (a flop with an enable, the level its data; the
+        // synthesized vector form gives each bit a mux), the loop run only on
+        // a clock with a load (a sample or an arm), where a simulator pays it.
+        if (|load) begin
+            for (i = 0; i < WIDTH; i = i + 1)
+                if (load[i]) prev_q[i] <= level_i[i];
+        end
         if (rst) begin
             armed_q <= {WIDTH{1'b0}};
             fire_q  <= {WIDTH{1'b0}};

@@ -65,10 +65,13 @@ class CfgModel:
                     self.out[p] = v["out_wdata_i"]
 
     def outputs(self) -> dict[str, int]:
-        # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0.
+        # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0; watch_o: its
+        # transition latch watches it while ENA and IODIR are both 1.
+        watch = DIGCFG_ENA | DIGCFG_IODIR
         return dict(cfg_o=pack_cfg(self.cfg),
                     out_o=sum(o << p for p, o in enumerate(self.out)),
-                    oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)))
+                    oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)),
+                    watch_o=sum(int(c & watch == watch) << p for p, c in enumerate(self.cfg)))
 
 
 def pack_cfg(cfg: list[int]) -> int:
@@ -86,7 +89,7 @@ def unpack_cfg(word: int, n: int, p: int) -> int:
 class CfgTB(ClockedTB):
     INPUTS = dict(cfg_we_i=0, out_we_i=0, sel_i=0, cfg_wdata_i=0, out_wdata_i=0)
     PULSES = ("cfg_we_i", "out_we_i")
-    OUTPUTS = ("cfg_o", "out_o", "oe_o")
+    OUTPUTS = ("cfg_o", "out_o", "oe_o", "watch_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "cfg_regs")

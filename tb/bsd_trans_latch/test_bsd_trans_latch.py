@@ -24,7 +24,7 @@ PERIOD_NS = 10
 class LatchModel:
     """PROTOCOL.md 4.1 + DESIGN.md decision 5, at the block's ports.
 
-    A sample is taken on clocks with sample_i, ena_i and input_i all 1. Armed, the
+    A sample is taken on clocks with sample_i and watch_i (ENA && IODIR) both 1. Armed, the
     first sample that differs from the previous sample in the TRG direction fires
     (one clock) and disarms; samples in the other direction only move the previous
     sample. arm_i loads the current level as the previous sample and (re)arms; it
@@ -38,11 +38,11 @@ class LatchModel:
         self.armed = False
         self.prev = 0
 
-    def step(self, arm, ena, trg, inp, sample, level) -> int:
+    def step(self, arm, watch, trg, sample, level) -> int:
         if arm:
             self.armed, self.prev = True, level
             return 0
-        if self.armed and ena and inp and sample:
+        if self.armed and watch and sample:
             fire = level != self.prev and level == trg
             self.prev = level
             if fire:
@@ -52,7 +52,7 @@ class LatchModel:
 
 
 class LatchTB(ClockedTB):
-    INPUTS = dict(arm_i=0, ena_i=1, trg_i=1, input_i=1, sample_i=1, level_i=0)
+    INPUTS = dict(arm_i=0, watch_i=1, trg_i=1, sample_i=1, level_i=0)
     PULSES = ("arm_i",)
     OUTPUTS = ("fire_o",)
     PERIOD_NS = PERIOD_NS
@@ -148,9 +148,9 @@ async def test_arm_on_matching_edge_clock(dut, trg):
 
 @cocotb.test()
 @TRG
-@cocotb.parametrize(gate=["ena_i", "input_i", "sample_i"])
+@cocotb.parametrize(gate=["watch_i", "sample_i"])
 async def test_no_fire_while_gated(dut, trg, gate):
-    """No sample (so no fire) while ena_i, input_i or sample_i is 0: a pulse that comes
+    """No sample (so no fire) while watch_i or sample_i is 0: a pulse that comes
     and goes while gated is missed. (At the top, ENA and IODIR only change through
     DIG_CFG set, which re-arms; sample_i's case is also covered by the strobe test.)"""
     tb = LatchTB(dut)
@@ -221,8 +221,7 @@ async def test_random_vs_model(dut):
                 arm_i=arm,
                 sample_i=int(rng.random() < p_sample),
                 level_i=tb.cur["level_i"] ^ int(rng.random() < p_level),
-                ena_i=int(rng.random() >= p_gate),
-                input_i=int(rng.random() >= p_gate),
+                watch_i=int(rng.random() >= p_gate),
             )
             if rng.random() < 0.01:
                 kw["trg_i"] = 1 - tb.cur["trg_i"]
