@@ -33,18 +33,10 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
                           HB_UP, KIND_CMD, KIND_PROBE, KIND_SERIAL, MAX_N, MSG_CMD_INDEX_ERR,
                           MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR,
                           MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
+from bsd_model import cmd_flags
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
-
-# bsd_parser's pkt_cmd_o: d0 as one flag per command the executor knows, and whether it is one.
-CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
-
-
-def cmd_flags(d0: int) -> int:
-    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
-    return f | (0x80 if f else 0)
-
 
 BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},

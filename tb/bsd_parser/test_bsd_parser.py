@@ -37,18 +37,10 @@ import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
-from bsd_protocol import (ADDR_RESYNC, CMD_DEBUG, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_HB,
-                          CMD_PTIME_RD, CMD_RESET, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD,
-                          KIND_PROBE, KIND_SERIAL, MAX_N)
+from bsd_model import CMD_FLAGS, cmd_flags
+from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD, KIND_PROBE,
+                          KIND_SERIAL, MAX_N)
 from clocked_tb import ClockedTB
-
-# pkt_cmd_o: [0] cmdHB, [1] cmdDEBUG, [2] cmdRESET, [3..6] cmdDIG_CFG, _IO, _RST, cmdPTIME_RD, [7] any.
-CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
-
-
-def cmd_flags(d0: int) -> int:
-    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
-    return f | (0x80 if f else 0)
 import runner
 from runner import hdl_params
 from seeding import make_rng

@@ -744,3 +744,14 @@ def ticks_close(result: int, interval_s: float, clk_hz: int, latency_clocks: int
         return False
     exact = interval_s * TICK_HZ
     return abs(result - exact) <= tick_tolerance(clk_hz, latency_clocks) or (exact < 1 and result == 1)
+
+
+# --- block interfaces --------------------------------------------------------------------
+# bsd_parser hands the executor d0 decoded (pkt_cmd_o, bsd_exec's pkt_cmd_i): bit j is
+# "d0 is CMD_FLAGS[j]", bit 7 "d0 is any of them".
+CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
+
+
+def cmd_flags(d0: int) -> int:
+    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
+    return f | (0x80 if f else 0)
