@@ -12,7 +12,8 @@
 // may be the previous run's) or the clock after (stage 3); never for a timer that is not running or already inserted;
 // the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
 // earlier run never counts); expire_o only names inserted timers; an insert never shares
-// the write port with a slot's clearing (the scanner waits instead).
+// the write port with a slot's clearing (the scanner waits instead); an insert sets its
+// timer's bit of the slot and no other, a clearing empties the slot.
     localparam [NUM_TIMERS-1:0] ONE = 1;
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q, f_tick2_q;
@@ -54,6 +55,18 @@
             assert(tick2_q == f_tick2_q && tick1_q == f_tick_q);
         end
     end
+
+    // The wheel's write (NUM_TIMERS <= 16 here: one RAM): an insert sets its timer's bit of the
+    // slot and no other, a clearing empties the slot.
+    reg                  f_wr_q;
+    reg [5:0]            f_addr_q;
+    reg [NUM_TIMERS-1:0] f_want_q;
+    always @(posedge clk) begin
+        f_wr_q   <= !rst && (insert || clear);
+        f_addr_q <= w_addr;
+        f_want_q <= clear ? NONE : g_wheel[0].wheel[w_addr] | (ONE << scan3_q);
+    end
+    always @(*) if (f_past_valid && f_wr_q) assert(g_wheel[0].wheel[f_addr_q] == f_want_q);
 
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
         cover(insert);

@@ -33,6 +33,8 @@ MUTANTS = [
     ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v",
      "a restart after its slot was read expires at the previous run's timeout",
      "assign expire_o = expire_q & ins_q;", "assign expire_o = expire_q;"),
+    ("bsd_timeout_wheel", "prove", "bsd_timeout_wheel.v", "an insert sets every bit of its slot (the bit mask ignored)",
+     "if (w_mask[b]) w_word[b] = w_bit;", "w_word[b] = w_bit;", "UNKNOWN"),
     ("bsd_drain", "prove", "bsd_drain.v", "the DIG_IO value always goes first, even above a lower timer ID",
      "dio_first = dio_q && !(|(r & ranks_of(dio_id_q)));", "dio_first = dio_q;"),
     ("bsd_drain", "prove", "bsd_drain.v", "the empty flag ignores whether the new entry has items",
