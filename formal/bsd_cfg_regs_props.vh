@@ -7,8 +7,9 @@
 // pins' latches only (fixed pins too). A fixed pin's cfg_o is FIXED_CFG's bits 4:0 on
 // every clock, reset included. cfg_o and out_o (the read-back) equal the reference after
 // every clock, and on a write every other pin keeps its value. oe_o is IODIR (bit 0) inverted
-// and watch_o is ENA (bit 1) AND IODIR on every clock. cfg_o is field-major (bit k of pin p at k*NUM_PINS + p); the reference
-// keeps pin-major words (pin p's bits at 5*p) and f_out_cfg below regroups cfg_o to match.
+// and watch_o is ENA (bit 1) AND IODIR on every clock. cfg_o is field-major (bit k of pin p
+// at k*NUM_PINS + p); the reference keeps pin-major words (pin p's bits at 5*p) and
+// f_out_cfg below regroups cfg_o to match.
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_cfg_we_q, f_out_we_q;
     reg [NUM_PINS-1:0]   f_sel_q;
