@@ -67,9 +67,6 @@ module bsd_exec #(
     `include "bsd_protocol.vh"
 
     localparam integer IODIR = 0;  // DIGCFG bit: 1 = input
-    // pkt_cmd_i's flags (bsd_parser's pkt_cmd_o)
-    localparam integer CMDF_HB = 0, CMDF_DEBUG = 1, CMDF_RESET = 2, CMDF_DIG_CFG = 3,
-                       CMDF_DIG_IO = 4, CMDF_DIG_RST = 5, CMDF_PTIME_RD = 6, CMDF_ANY = 7;
     localparam [7:0] NUM_PINS_W = NUM_PINS[7:0];
 
     // x < K for a constant K, as gates: synthesis folds the constant into a

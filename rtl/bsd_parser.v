@@ -23,8 +23,7 @@ module bsd_parser #(
     output wire [1:0] pkt_kind_o,
     output wire [3:0] pkt_n_o,
     output wire [7:0] pkt_d0_o,
-    // d0 is: [0] cmdHB, [1] cmdDEBUG, [2] cmdRESET, [3] cmdDIG_CFG, [4] cmdDIG_IO,
-    // [5] cmdDIG_RST, [6] cmdPTIME_RD, [7] any of these
+    // d0 is: bit CMDF_<NAME> (bsd_protocol.vh) cmd<NAME>, bit CMDF_ANY any of these
     output wire [7:0] pkt_cmd_o,
     output wire [7:0] pkt_d1_o,
     output wire [7:0] pkt_d2_o,
@@ -105,13 +104,18 @@ module bsd_parser #(
     function len_over(input [7:0] b);  // > 8
         len_over = (|b[7:4]) | (b[3] & (|b[2:0]));
     endfunction
-    // pkt_cmd_o's flags of a d0 byte.
+    // pkt_cmd_o's flags of a d0 byte (bit numbers CMDF_*, bsd_protocol.vh).
     function [7:0] cmd_flags(input [7:0] b);
-        reg [6:0] f;
         begin
-            f = {b == CMD_PTIME_RD, b == CMD_DIG_RST, b == CMD_DIG_IO, b == CMD_DIG_CFG,
-                 b == CMD_RESET, b == CMD_DEBUG, b == CMD_HB};
-            cmd_flags = {|f, f};
+            cmd_flags                = 8'd0;
+            cmd_flags[CMDF_HB]       = b == CMD_HB;
+            cmd_flags[CMDF_DEBUG]    = b == CMD_DEBUG;
+            cmd_flags[CMDF_RESET]    = b == CMD_RESET;
+            cmd_flags[CMDF_DIG_CFG]  = b == CMD_DIG_CFG;
+            cmd_flags[CMDF_DIG_IO]   = b == CMD_DIG_IO;
+            cmd_flags[CMDF_DIG_RST]  = b == CMD_DIG_RST;
+            cmd_flags[CMDF_PTIME_RD] = b == CMD_PTIME_RD;
+            cmd_flags[CMDF_ANY]      = |cmd_flags;
         end
     endfunction
     // N is 1..8 where it is read, so N = 1 shows in its low 3 bits alone.

@@ -73,4 +73,14 @@ localparam integer DEV_ID_LIMIT = 64;  // every device ID is below this
 localparam [1:0] KIND_CMD    = 2'd0;
 localparam [1:0] KIND_PROBE  = 2'd1;
 localparam [1:0] KIND_SERIAL = 2'd2;
+
+// The parser's decoded d0 (internal): the bit of each command the executor knows, and ANY.
+localparam integer CMDF_HB       = 0;
+localparam integer CMDF_DEBUG    = 1;
+localparam integer CMDF_RESET    = 2;
+localparam integer CMDF_DIG_CFG  = 3;
+localparam integer CMDF_DIG_IO   = 4;
+localparam integer CMDF_DIG_RST  = 5;
+localparam integer CMDF_PTIME_RD = 6;
+localparam integer CMDF_ANY      = 7;
 /* verilator lint_on UNUSEDPARAM */

@@ -77,6 +77,16 @@ constexpr uint8_t KIND_CMD    = 0;
 constexpr uint8_t KIND_PROBE  = 1;
 constexpr uint8_t KIND_SERIAL = 2;
 
+// The parser's decoded d0 (internal): the bit of each command the executor knows, and ANY.
+constexpr int CMDF_HB       = 0;
+constexpr int CMDF_DEBUG    = 1;
+constexpr int CMDF_RESET    = 2;
+constexpr int CMDF_DIG_CFG  = 3;
+constexpr int CMDF_DIG_IO   = 4;
+constexpr int CMDF_DIG_RST  = 5;
+constexpr int CMDF_PTIME_RD = 6;
+constexpr int CMDF_ANY      = 7;
+
 // The core's parameters: GP 1.0 defaults (§1).
 constexpr uint64_t DEFAULT_CLK_HZ        = 48000000;
 constexpr uint64_t DEFAULT_MODULE_ADDR   = 2;

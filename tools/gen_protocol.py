@@ -74,6 +74,7 @@ class Protocol:
     dev_id_limit: int
     defaults: dict[str, int]  # PARAMETERS, in that order
     packet_kinds: dict[str, int]  # KIND_<name> -> value
+    command_flags: dict[str, int]  # CMDF_<name> -> bit number
 
     def command(self, name: str) -> Command:
         return next(c for c in self.commands if c.name == name)
@@ -117,7 +118,7 @@ def load(path: Path) -> Protocol:
     except tomllib.TOMLDecodeError as e:
         raise TableError(f"{path}: {e}") from None
     sections = ("packet", "command", "message", "digcfg", "devcode", "heartbeat", "timer", "device_id", "defaults",
-                "packet_kind")
+                "packet_kind", "command_flag")
     if extra := sorted(set(raw) - set(sections)):
         raise TableError(f"{path.name}: unknown table(s) {', '.join(extra)}")
     if missing := [k for k in sections if not raw.get(k)]:
@@ -149,7 +150,8 @@ def load(path: Path) -> Protocol:
     hb = section("heartbeat", "up", "down", "answer_offset", "unit_ticks")
     return Protocol(max_n, resync, msg_n, commands, messages, digcfg, stored, reset, {"HOST": host, "RFLX": rflx},
                     (pin[0], pin[1]), *hb, *section("timer", "tick_hz", "max_ticks"), *section("device_id", "limit"),
-                    _keys(raw["defaults"], "[defaults]", PARAMETERS), _keys(raw["packet_kind"], "[packet_kind]", None))
+                    _keys(raw["defaults"], "[defaults]", PARAMETERS), _keys(raw["packet_kind"], "[packet_kind]", None),
+                    _keys(raw["command_flag"], "[command_flag]", None))
 
 
 # --- renderers: each returns the whole file; names are the same in every language ---------
@@ -193,6 +195,8 @@ def _groups(p: Protocol) -> list[tuple[str, list[Const]]]:
          [Const("DEV_ID_LIMIT", p.dev_id_limit, "int", "every device ID is below this")]),
         ("Packet kinds from the parser to the executor (internal, not in the contract).",
          [Const(f"KIND_{k}", v, "kind") for k, v in p.packet_kinds.items()]),
+        ("The parser's decoded d0 (internal): the bit of each command the executor knows, and ANY.",
+         [Const(f"CMDF_{k}", v, "int") for k, v in p.command_flags.items()]),
     ]
 
 

@@ -72,6 +72,16 @@ KIND_CMD = 0
 KIND_PROBE = 1
 KIND_SERIAL = 2
 
+# The parser's decoded d0 (internal): the bit of each command the executor knows, and ANY.
+CMDF_HB = 0
+CMDF_DEBUG = 1
+CMDF_RESET = 2
+CMDF_DIG_CFG = 3
+CMDF_DIG_IO = 4
+CMDF_DIG_RST = 5
+CMDF_PTIME_RD = 6
+CMDF_ANY = 7
+
 # The contract's names.
 COMMANDS: dict[int, str] = {
     CMD_HB: "cmdHB",

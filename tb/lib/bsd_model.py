@@ -42,6 +42,14 @@ from bsd_protocol import (
     CMD_MSG,
     CMD_PTIME_RD,
     CMD_RESET,
+    CMDF_ANY,
+    CMDF_DEBUG,
+    CMDF_DIG_CFG,
+    CMDF_DIG_IO,
+    CMDF_DIG_RST,
+    CMDF_HB,
+    CMDF_PTIME_RD,
+    CMDF_RESET,
     DEFAULTS,
     DEVCODE_HOST,
     DEVCODE_PIN,
@@ -747,11 +755,13 @@ def ticks_close(result: int, interval_s: float, clk_hz: int, latency_clocks: int
 
 
 # --- block interfaces --------------------------------------------------------------------
-# bsd_parser hands the executor d0 decoded (pkt_cmd_o, bsd_exec's pkt_cmd_i): bit j is
-# "d0 is CMD_FLAGS[j]", bit 7 "d0 is any of them".
-CMD_FLAGS = (CMD_HB, CMD_DEBUG, CMD_RESET, CMD_DIG_CFG, CMD_DIG_IO, CMD_DIG_RST, CMD_PTIME_RD)
+# bsd_parser hands the executor d0 decoded (pkt_cmd_o, bsd_exec's pkt_cmd_i): bit CMDF_<NAME>
+# (tools/protocol.toml) is "d0 is CMD_<NAME>", bit CMDF_ANY "d0 is any of them".
+CMD_FLAG_BITS = {CMD_HB: CMDF_HB, CMD_DEBUG: CMDF_DEBUG, CMD_RESET: CMDF_RESET, CMD_DIG_CFG: CMDF_DIG_CFG,
+                 CMD_DIG_IO: CMDF_DIG_IO, CMD_DIG_RST: CMDF_DIG_RST, CMD_PTIME_RD: CMDF_PTIME_RD}
+CMD_FLAGS = tuple(CMD_FLAG_BITS)  # the commands that have a flag
 
 
 def cmd_flags(d0: int) -> int:
-    f = sum(1 << j for j, c in enumerate(CMD_FLAGS) if d0 == c)
-    return f | (0x80 if f else 0)
+    bit = CMD_FLAG_BITS.get(d0)
+    return 0 if bit is None else 1 << bit | 1 << CMDF_ANY
