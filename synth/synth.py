@@ -205,7 +205,10 @@ def _nextpnr(work: Path, d: Design, seed: int, tag: str | None = None, netlist: 
         if m and (int(m[-1][0]) > int(m[-1][1]) or "Unable to find legal placement" in text):
             used, avail = map(int, m[-1])
             why = "does not fit" if used > avail else "no legal placement"
-            raise Unplaced(f"{why}: {used} {f.logic} of the {avail} available ({100 * used / avail:.0f} %)") from None
+            # An iCE40 flop takes a cell of its own unless a LUT feeds only it: say how many did.
+            alone = re.findall(r"(\d+) LCs used as DFF only", text)
+            alone = f", {alone[-1]} of them a flop without a LUT" if alone else ""
+            raise Unplaced(f"{why}: {used} {f.logic} of the {avail} available ({100 * used / avail:.0f} %){alone}") from None
         raise
     rep = json.loads((work / f"{tag}.json").read_text())
     util = rep["utilization"][f.logic]

@@ -23,7 +23,12 @@ Info: 	        ICESTORM_RAM:       1/     30     3%
 ERROR: Unable to place cell 'u_dio.x', no BELs remaining to implement cell type 'ICESTORM_LC'
 """
 # At the limit it packs the design, then its placer finds no legal placement.
-AT_THE_LIMIT = """Info: Device utilisation:
+AT_THE_LIMIT = """Info: Packing LUT-FFs..
+Info:     2694 LCs used as LUT4 only
+Info:      934 LCs used as LUT4 and DFF
+Info: Packing non-LUT FFs..
+Info:     1577 LCs used as DFF only
+Info: Device utilisation:
 Info: 	         ICESTORM_LC:    5249/   5280    99%
 Info: Running main analytical placer, max placement attempts per cell = 3490082.
 ERROR: Unable to find legal placement for all cells, design is probably at utilisation limit.
@@ -57,7 +62,8 @@ def test_a_design_too_big_is_unplaced_with_the_cells_it_needs(monkeypatch, tmp_p
 
 def test_a_design_at_the_limit_is_unplaced_with_the_cells_it_packed(monkeypatch, tmp_path) -> None:
     d = _fake_nextpnr(monkeypatch, tmp_path, AT_THE_LIMIT)
-    with pytest.raises(flow.Unplaced, match=r"no legal placement: 5249 ICESTORM_LC of the 5280 available \(99 %\)"):
+    with pytest.raises(flow.Unplaced, match=r"no legal placement: 5249 ICESTORM_LC of the 5280 available \(99 %\), "
+                                                   r"1577 of them a flop without a LUT$"):
         flow._nextpnr(tmp_path, d, 1)
 
 
