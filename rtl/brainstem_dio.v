@@ -86,6 +86,34 @@ module brainstem_dio #(
     /* verilator coverage_on */
     localparam integer TIMERS = count_timers(0);
     localparam integer NT     = TIMERS == 0 ? 1 : TIMERS;
+    // Where a timer number or a device ID comes out of a queue (block RAM,
+    // whose bits synthesis cannot see through) or a mux, the bits that no
+    // such number or ID of this build can have are given as the constants
+    // they are, so that synthesis drops their logic downstream (few-pin
+    // builds; with 64 pins every bit can vary and the masks are all ones).
+    // The bits a timer number has (0 with one timer).
+    localparam integer TNB    = $clog2(NT);
+    localparam [5:0]   TIDX_MASK = 6'h3F >> (6 - TNB);
+    // The bits that are 1 in the device ID base + p of some pin p in mask
+    // (all 0), or of every such pin (all 1).
+    // Only localparam initializers call it: it runs while elaborating, never in simulation.
+    /* verilator coverage_off */
+    function [5:0] id_bits(input [5:0] base, input [NUM_PINS-1:0] mask, input all);
+        integer q;
+        reg [5:0] id;
+        begin
+            id_bits = all ? 6'h3F : 6'h00;
+            for (q = 0; q < NUM_PINS; q = q + 1) begin
+                id = base + q[5:0];
+                if (mask[q]) id_bits = all ? id_bits & id : id_bits | id;
+            end
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [5:0]   TID_ANY = id_bits(TIMER_ID_BASE[5:0], TIMER_MASK, 1'b0);
+    localparam [5:0]   TID_ALL = id_bits(TIMER_ID_BASE[5:0], TIMER_MASK, 1'b1);
+    localparam [5:0]   PID_ANY = id_bits(PIN_ID_BASE[5:0], {NUM_PINS{1'b1}}, 1'b0);
+    localparam [5:0]   PID_ALL = id_bits(PIN_ID_BASE[5:0], {NUM_PINS{1'b1}}, 1'b1);
 
     // An event queue entry: {timer events at all, timer references, timer
     // finishes, reply, DIG_IO RFLX value, heartbeat, the DIG_IO value's ID and
@@ -318,7 +346,7 @@ module brainstem_dio #(
         .reply_data_i (s2_reply_data),
         .reply_tail_i (s2_reply_tail),
         .dio_rflx_i   (s2_dio_rflx),
-        .dio_id_i     (s2_dio_id),
+        .dio_id_i     (s2_dio_id & PID_ANY | PID_ALL),  // (read only for a good pin)
         .dio_val_i    (s2_dio_val),
         .hold_o       (pkt_hold),
         .rep_req_o    (rep_req),
@@ -515,7 +543,9 @@ module brainstem_dio #(
     // A skipping entry has no timer event, and the drain reads T only for
     // timer events: T needs no mux, and r and f none either (the drain masks
     // them with ev_timers_i).
-    wire [DW-1:0] ev_data = {evq_data[DW-1:26], evq_valid ? evq_data[25:16] : ev_entry[25:16],
+    // (the DIG_IO value's ID, bits 6:1 of these, as constant as it is)
+    wire [9:0]    ev_mid  = evq_valid ? evq_data[25:16] : ev_entry[25:16];
+    wire [DW-1:0] ev_data = {evq_data[DW-1:26], ev_mid[9:7], ev_mid[6:1] & PID_ANY | PID_ALL, ev_mid[0],
                              evq_data[15:0]};
 
     bsd_drain #(
@@ -569,7 +599,9 @@ module brainstem_dio #(
         .flush_i       (soft_rst_q),
         .swapped_o     (tx_swapped),
         .item_valid_i  (outq_valid || (order_valid && out_skip)),
-        .item_data_i   (outq_valid ? outq_data : order_data),
+        // (the timer's number and device ID as constant as they are)
+        .item_data_i   ((outq_valid ? outq_data : order_data) & {2'b11, TIDX_MASK, TID_ANY, 16'hFFFF} |
+                        {8'd0, TID_ALL, 16'd0}),
         .item_ready_o  (tx_take),
         .free_o        (tx_free),
         .idle_o        (tx_idle),

@@ -129,7 +129,10 @@ module bsd_pkt_tx #(
     assign m_axis_tlast  = last_q;
 
     always @(posedge clk) begin
-        if (load) begin
+        // The packet's registers load whenever an item would be taken (free),
+        // offered or not, so that their enable does not wait for the queue's
+        // offer: without one, valid_q stays 0 and they are never read.
+        if (free) begin
             pos_q    <= 4'd0;
             n_q      <= n;
             kind_q   <= kind;
