@@ -506,11 +506,16 @@ module brainstem_dio #(
     // ---------------------------------------------------------- event queue
     // At most two events per timer (reference, finish) wait before its result
     // is delivered, one reply and one heartbeat; DIG_IO RFLX values come one
-    // per command (4 clocks at least) and the drain takes an item a clock:
-    // 256 entries never overflow (docs/DESIGN.md). An entry without timer
+    // per command (4 clocks at least, and none while a reply waits) and the
+    // drain takes an item a clock: 2 NT + 8 entries never overflow
+    // (docs/DESIGN.md). Both queues are sized by the timer count, so that a
+    // few-timer build keeps short pointers (16 and 8 deep for GP 1.0, 256 and
+    // 128 with 64 timers); a block RAM holds either. An entry without timer
     // events (a reply, a DIG_IO value, a heartbeat) skips the queue when
     // nothing waits in it and the drain is empty: 2 clocks less latency, and
     // the mux is only as wide as those fields.
+    localparam integer EVQ_DEPTH  = 1 << $clog2(2 * NT + 8);
+    localparam integer OUTQ_DEPTH = 1 << $clog2(NT + 4);
     wire          evq_ready, evq_valid, evq_empty, drain_free, drain_empty;
     wire [EW-1:0] evq_data;
     // After a cmdRESET that turned the packet on offer into the power-up
@@ -525,7 +530,7 @@ module brainstem_dio #(
     // write enable; an entry that meets the drain's last item is queued.)
     wire          ev_skip  = evq_empty && drain_empty && !ev_any;
 
-    bsd_fifo #(.WIDTH(EW), .DEPTH(256), .SKID(0)) u_evq (
+    bsd_fifo #(.WIDTH(EW), .DEPTH(EVQ_DEPTH), .SKID(0)) u_evq (
         .clk           (clk),
         .rst           (core_rst),
         .s_axis_tdata  (ev_entry),
@@ -574,14 +579,14 @@ module brainstem_dio #(
 
     // -------------------------------------------------------------- output
     // One item per packet that can wait: a timer's result each, the reply,
-    // the heartbeat: 66 at most. An item skips the queue when nothing waits
-    // in it and the transmitter is idle.
+    // the heartbeat: NT + 2 at most (OUTQ_DEPTH is NT + 4 or more). An item
+    // skips the queue when nothing waits in it and the transmitter is idle.
     wire        outq_ready, outq_valid, outq_empty, tx_free, tx_take, tx_idle;
     wire [29:0] outq_data;
     // (tx_idle comes from flops, like drain_empty above.)
     wire        out_skip = outq_empty && tx_idle;
 
-    bsd_fifo #(.WIDTH(30), .DEPTH(128), .SKID(0)) u_outq (
+    bsd_fifo #(.WIDTH(30), .DEPTH(OUTQ_DEPTH), .SKID(0)) u_outq (
         .clk           (clk),
         .rst           (core_rst),
         .s_axis_tdata  (order_data),

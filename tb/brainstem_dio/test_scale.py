@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Many timers at once, at the top level of brainstem_dio, against the model (PROTOCOL.md
 §4.2 and §5): 64 completions and a command reply on one clock; 64 timeouts at 2 MHz with
-completions landing on the timeout clock; the output stalled for 200 ms with every timer's
+completions landing on the timeout clock; completions on 64 successive clocks (the event
+queue's sizing); the output stalled for 200 ms with every timer's
 result waiting (nothing lost, RFLX strobes not held back); ±1 tick on 64 timers at 2, 2.5,
 12 and 48 MHz; a restart right after a delivery.
 
@@ -97,6 +98,51 @@ async def test_64_completions_and_reply_one_clock(dut) -> None:
     strobes = tb.rflx[-64:]
     clocks = {round((b[0] - a[0]) * P.clk_hz) for a, b in zip(strobes, strobes[1:])}
     assert clocks == {1}, f"RFLX strobes {sorted(clocks)} clocks apart"
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=not runner.on("t64_2"))
+async def test_completions_on_successive_clocks(dut) -> None:
+    """Timer p completes one clock after timer p - 1: an event-queue entry on each of 64 clocks
+    while the drain takes a one-result entry every 2 clocks, so many entries wait at once (the
+    queue is sized by the timer count, 2 NT + 8: what this fills). Every result arrives, in
+    event order, which is pin order here."""
+    need(P.timer_mask == ALL, "a timer on every pin")
+    tb, m = await setup(dut, pins=0)
+    starts = await start_all(tb, m, DIGCFG_IODIR | DIGCFG_TSTATE)      # edge mode, to 1
+    evq = dut.u_evq
+    depth = 1 << len(evq.wr_q)
+    peak = 0
+
+    async def watch() -> None:
+        nonlocal peak
+        while True:
+            await RisingEdge(dut.clk)
+            await ReadOnly()
+            peak = max(peak, (int(evq.wr_q.value) - int(evq.rd_q.value)) % depth)
+
+    watcher = cocotb.start_soon(watch())
+    await tb.cycles(8)
+    t_pad, level = {}, 0
+    for pin in range(P.num_pins):
+        await FallingEdge(dut.clk)
+        level |= 1 << pin
+        tb.set_pins(level)
+        t_pad[pin] = tb.now_s()
+    await tb.cycles(400)
+    watcher.cancel()
+    results = {}
+    for pin in range(P.num_pins):
+        got = timer_value(tb, m, pin)
+        if got is None:
+            raise TBError(f"pin {pin}: no result")
+        check_result(pin, got, t_pad[pin] - starts[pin])
+        results[pin] = got
+    m.set_pins(ALL)
+    got = await tb.expect(m.timers_complete(results), what="64 results in pin order")
+    assert len(got) == 64
+    dut._log.info("event queue: at most %d of %d entries waiting", peak, depth)
+    assert peak >= 16, f"only {peak} entries ever waited: the test does not fill the queue"
     tb.check_no_errors()
 
 
