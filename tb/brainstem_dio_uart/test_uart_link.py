@@ -6,10 +6,13 @@ Builds (small FIFOs make overflow cheap to reach; the board keeps the default 51
 - b9600: 9600 baud from 2 MHz (208 clocks per bit; 2 MHz is the core's lowest clock) with
   the wrapper's default heartbeat (HB_RATE 10 = 256 ms) and an 8-byte FIFO;
 - b115200: 115 200 baud from 2.304 MHz (20 clocks per bit) with a 25.6 ms heartbeat
-  (HB_RATE 1) and a 16-byte FIFO.
-Verilator runs every case. Icarus is several times slower on the whole module, and a
-9600-baud byte is 2083 clocks, so on Icarus the 9600-baud build runs only the worked
-examples; the 115200-baud build runs everything on both.
+  (HB_RATE 1) and a 16-byte FIFO;
+- b9600-deep (make test-full): the b9600 build again, for the three tests (FIFO overflow, pins
+  and strobes, every pin an output) whose logic b115200 runs in make test and that cost most
+  at 208 clocks a bit.
+Icarus is several times slower on the whole module, and a 9600-baud byte is 2083 clocks, so
+on Icarus the 9600-baud build runs only the worked examples; the 115200-baud build runs
+everything on both.
 
 Every reply is checked against the reference model (tb/lib/bsd_model.py): the model is fed exactly the bytes the core received, so a test that
 loses bytes on purpose (framing errors, FIFO overflow) still gets an exact expectation.
@@ -68,6 +71,8 @@ BUILDS = {
     "b9600": {**Params(clk_hz=2_000_000, hb_rate=10).to_hdl(), "BAUD": 9600, "FIFO_DEPTH": 8},
     "b115200": {**Params(clk_hz=2_304_000, hb_rate=1).to_hdl(), "BAUD": 115_200, "FIFO_DEPTH": 16},
 }
+BUILDS["b9600-deep"] = BUILDS["b9600"]
+SLOW = runner.on("b9600-deep")  # the tests b9600 ran already skip it
 
 
 P = Params.from_env()
@@ -251,7 +256,7 @@ def overflow_msg() -> bytes:
 
 # ================================================================================ tests
 
-@cocotb.test()
+@cocotb.test(skip=SLOW)
 async def test_worked_examples(dut) -> None:
     """docs/PROTOCOL.md §7 over the serial line, in order, every reply from the model; the timer
     example measures 800 us from the core's acceptance of the PTIME_RD's last byte."""
@@ -323,7 +328,7 @@ def random_command(rng: random.Random, reply: bool) -> bytes:
     return packet(A, CMD_DIG_RST, pin)
 
 
-@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]) or SLOW)
 async def test_back_to_back(dut) -> None:
     """Random commands sent back to back at the full line rate (no idle bit between frames):
     every reply as the model's, no byte lost, and each reply packet leaves at the full line
@@ -354,7 +359,7 @@ async def test_back_to_back(dut) -> None:
         i += n
 
 
-@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
+@cocotb.test(skip=runner.on("b9600", sims=["icarus"]) or SLOW)
 async def test_framing_error(dut) -> None:
     """Malformed frames on the line (stop bit 0) are dropped and flagged: one between two
     packets changes nothing; one inside a packet leaves it incomplete, so the core drops it
@@ -404,7 +409,7 @@ async def flood(host: Host, m: Model, strobes: Strobes, commands: int) -> tuple[
     return exp.packets, strobes.dropped(n_rx), strobes.bursts - n_bursts
 
 
-@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
+@cocotb.test(skip=runner.on("b9600"))
 async def test_fifo_overflow(dut) -> None:
     """The host outruns the module: bytes that find the RX FIFO full are dropped, the core
     gets exactly the kept bytes (its replies as the model's for them), and cmdQOverflow
@@ -567,7 +572,7 @@ class Pulses:
                 await RisingEdge(self.dut.clk)
 
 
-@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
+@cocotb.test(skip=runner.on("b9600"))
 async def test_pins_latch_rflx(dut) -> None:
     """The wrapper's pin ports and strobes against the model: pins 1..3 as outputs driven 1
     then 0 (pin_o, pin_oe), every pin's transition latch armed for rising edges firing once
@@ -638,7 +643,7 @@ async def test_pins_latch_rflx(dut) -> None:
     host.check_line()
 
 
-@cocotb.test(skip=runner.on("b9600", sims=["icarus"]))
+@cocotb.test(skip=runner.on("b9600"))
 async def test_every_pin_output(dut) -> None:
     """Every pin that is not fixed, in turn an output driven 1 then 0: pin_o and pin_oe
     against the model after each command (deterministic: each pin_o bit rises and falls in
@@ -659,6 +664,7 @@ async def test_every_pin_output(dut) -> None:
     host.check_line()
 
 
-@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
+@pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator", deep=["b9600-deep"],
+                                                     only=lambda sim, build: (sim, build) != ("icarus", "b9600-deep")))
 def test_brainstem_dio_uart(sim: str, build: str) -> None:
     runner.run(sim, "brainstem_dio_uart", __file__, BUILDS[build], build)
