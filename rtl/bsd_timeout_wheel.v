@@ -119,18 +119,21 @@ module bsd_timeout_wheel #(
             /* verilator lint_off WIDTHEXPAND */
             wire         w_en_g = clear || (insert && scan3_q[5:4] == g);
             /* verilator lint_on WIDTHEXPAND */
-            integer      b;
             // The masked write as a word write whose unmasked bits are the
             // slot's own (yosys turns that feedback into the RAM's bit
             // mask): a simulator then keeps one pending write, not one a bit.
-            reg [GW-1:0] w_word;
-            always @* begin
-                w_word = wheel[w_addr];
-                for (b = 0; b < GW; b = b + 1)
-                    if (w_mask[b]) w_word[b] = w_bit;
-            end
+            // A function called under the write enable, not an always @*:
+            // a simulator builds the word only on a clearing or inserting clock.
+            function [GW-1:0] w_word(input [GW-1:0] old);
+                integer b;
+                begin
+                    w_word = old;
+                    for (b = 0; b < GW; b = b + 1)
+                        if (w_mask[b]) w_word[b] = w_bit;
+                end
+            endfunction
             always @(posedge clk) begin
-                if (w_en_g) wheel[w_addr] <= w_word;
+                if (w_en_g) wheel[w_addr] <= w_word(wheel[w_addr]);
                 if (tick1_q) rd_q <= wheel[slot_q];
             end
             assign expire_q[16 * g +: GW] = rd_q;
