@@ -45,17 +45,27 @@ SIM_HDRS := Makefile $(RTL) rtl/bsd_protocol.vh sim/script.h sim/transcript.h si
 SIM_DEPS := $(SIM_HDRS) sim/session.cpp
 # Without lz4's header (Debian: liblz4-dev) Verilator's FST writer does not build: VCD then.
 HASH    := \#
+COMMA   := ,
 HAVE_LZ4 := $(shell echo '$(HASH)include <lz4.h>' | $(CXX) -E -x c++ - >/dev/null 2>&1 && echo 1)
 TRACE   := $(if $(HAVE_LZ4),--trace-fst,--trace-vcd)
 WAVE_EXT := $(if $(HAVE_LZ4),fst,vcd)
-# $(call verilate,top,options,C++ main): builds $@. The wheel's verilated.mk leaves the
+# $(call verilate,top,options,C++ main[,inputs]): builds $@. The wheel's verilated.mk leaves the
 # precompiled-header option empty, which breaks a model large enough to be split (NUM_PINS
 # beyond about 16): hence gcc's. FAST: the bench and virtual builds, which must keep up.
+# inputs: the top's inputs (an extended regex, name|name) that the harness does not watch for
+# the input logic (sim/fast_eval.h); the build stops if the model's input logic reads one.
 verilate = @mkdir -p $(@D) && $(WITH_VERILATOR) verilator --cc --exe --build -j 2 -O3 --quiet-stats -Irtl \
 	--top-module $(1) $(2) -CFLAGS -O2 -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include -Mdir $(@D) -o $(@F) \
 	$(RTL) $(CURDIR)/$(3) > $(@D).log 2>&1 || { cat $(@D).log; exit 1; }; \
 	if grep -q "region trigger index [1-9]" $(@D)/*.cpp || ! grep -q "trigger index 0 is active: @(posedge clk)" \
-	    $(@D)/*.cpp; then echo "$@: sim/fast_eval.h needs posedge clk as the model's only trigger"; rm -f $@; exit 1; fi
+	    $(@D)/*.cpp; then echo "$@: sim/fast_eval.h needs posedge clk as the model's only trigger"; rm -f $@; exit 1; fi \
+	$(if $(4),; if awk '/^[^ ].*___ico.* \{$$/$(COMMA)/^}/' $(@D)/*.cpp | grep -qE '[.>]($(4))\b'; then \
+	    echo "$@: the model's input logic reads $(4): $(3) does not watch them (sim/fast_eval.h)"; \
+	    rm -f $@; exit 1; fi)
+# The inputs sim/session.cpp does not pass to Inputs::changed(): they change on most clocks of
+# a packet, and the input logic reads only rst and m_axis_tready (the parser reads s_axis in its
+# clocked logic). The build checks it.
+SESSION_UNWATCHED := s_axis_tdata|s_axis_tvalid
 # -fno-const-bit-op-tree: Verilator's rewrite of AND/OR trees over bit-selects costs the
 # 64-pin model a sixth more instructions a clock, GP 1.0 1 % (docs/benchmarks.md).
 FAST := --x-assign fast --x-initial fast --noassert -fno-const-bit-op-tree \
@@ -84,7 +94,7 @@ lint: $(STAMP)
 	done
 
 $(SIM_BIN): $(SIM_DEPS) | $(STAMP)
-	$(call verilate,brainstem_dio,$(TRACE) $(call sim_flags,),sim/session.cpp)
+	$(call verilate,brainstem_dio,$(TRACE) $(call sim_flags,),sim/session.cpp,$(SESSION_UNWATCHED))
 
 sim-build: $(SIM_BIN)
 
@@ -104,10 +114,10 @@ $(BENCH_DIR)/session: BENCH_VARS := BSD_DEFAULT_
 $(BENCH64_DIR)/session: BENCH_VARS := BENCH64_
 $(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
 	@rm -f $(@D)/*.gcda
-	$(call verilate,brainstem_dio,$(FAST) $(PGO_GEN) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp)
+	$(call verilate,brainstem_dio,$(FAST) $(PGO_GEN) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp,$(SESSION_UNWATCHED))
 	@$@ --bench 300000 > /dev/null
 	@rm -f $(@D)/*.o $(@D)/*.a $(@D)/*.gch $@
-	$(call verilate,brainstem_dio,$(FAST) $(PGO_USE) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp)
+	$(call verilate,brainstem_dio,$(FAST) $(PGO_USE) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp,$(SESSION_UNWATCHED))
 
 bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 

@@ -107,8 +107,10 @@ module bsd_timeout_wheel #(
     wire                w_bit  = !clear;
     // The wheel as one RAM per 16 timers (a block RAM's width): an insert
     // writes only its timer's RAM (its write enable) through a bit mask that
-    // every RAM shares (16 gates, not one per timer).
-    wire [15:0]         w_mask = clear ? 16'hFFFF : 16'd1 << scan3_q[3:0];
+    // every RAM shares (16 gates, not one per timer: w_word's m). A write
+    // clock of any RAM (w_any) is tested once, before each RAM's select, so a
+    // simulator tests only that on the other clocks.
+    wire                w_any  = clear || cand;
     genvar g;
     generate
         for (g = 0; g < (NUM_TIMERS + 15) / 16; g = g + 1) begin : g_wheel
@@ -116,21 +118,29 @@ module bsd_timeout_wheel #(
             (* no_rw_check *)  // the slot read is never the one written (see in_win)
             reg [GW-1:0] wheel [0:63];
             reg [GW-1:0] rd_q;
+            // With w_any: clear, or an insert into this RAM (insert is cand && !clear).
             /* verilator lint_off WIDTHEXPAND */
-            wire         w_en_g = clear || (insert && scan3_q[5:4] == g);
+            wire         w_sel_g = clear || scan3_q[5:4] == g;
             /* verilator lint_on WIDTHEXPAND */
-            integer      b;
             // The masked write as a word write whose unmasked bits are the
             // slot's own (yosys turns that feedback into the RAM's bit
             // mask): a simulator then keeps one pending write, not one a bit.
-            reg [GW-1:0] w_word;
-            always @* begin
-                w_word = wheel[w_addr];
-                for (b = 0; b < GW; b = b + 1)
-                    if (w_mask[b]) w_word[b] = w_bit;
-            end
+            // A function called under the write enable, not an always @*:
+            // a simulator builds the word only on a clearing or inserting clock.
+            function [GW-1:0] w_word(input [GW-1:0] old);
+                integer b;
+                reg [15:0] w_mask;
+                begin
+                    w_mask = clear ? 16'hFFFF : 16'd1 << scan3_q[3:0];
+                    w_word = old;
+                    for (b = 0; b < GW; b = b + 1)
+                        if (w_mask[b]) w_word[b] = w_bit;
+                end
+            endfunction
             always @(posedge clk) begin
-                if (w_en_g) wheel[w_addr] <= w_word;
+                if (w_any) begin
+                    if (w_sel_g) wheel[w_addr] <= w_word(wheel[w_addr]);
+                end
                 if (tick1_q) rd_q <= wheel[slot_q];
             end
             assign expire_q[16 * g +: GW] = rd_q;
@@ -158,7 +168,9 @@ module bsd_timeout_wheel #(
         // clock after. A stall keeps the candidates: they stay stale if they were.
         stale_q  <= st_q || start_any_i || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any_i) : (stale3_q || start_any_i);
-        ins_q    <= ((ins_q | ins_bit) & ~start_i);
+        // The insert's decoder only on an insert's clock (ins_bit is zero on the others), so
+        // that a simulator works it out only then.
+        ins_q    <= ((insert ? ins_q | ins_bit : ins_q) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;

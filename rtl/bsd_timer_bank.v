@@ -121,7 +121,10 @@ module bsd_timer_bank #(
         run_q      <= ((run_q & ~finish) | start);
         target_q   <= ((target_q ^ pulse_begin) & ~start) | (target_i & start);
         wait_pb_q  <= ((wait_pb_q & ~pulse_begin) & ~start) | (mode_i & start);
-        pend_q     <= ((pend_q & ~clr) | (start & {NUM_TIMERS{host_i || rflx_i}}));
+        // The deliveries' decoders only on a delivery's clock (clr is zero on the others), so
+        // that a simulator works them out only then.
+        pend_q     <= ((host_done_i || rflx_done_i) ? pend_q & ~clr : pend_q) |
+                      (start & {NUM_TIMERS{host_i || rflx_i}});
         ev_r_q     <= ev_r_d;
         ev_f_q     <= ev_f_d;
         ev_any_q   <= |(ev_r_d | ev_f_d);

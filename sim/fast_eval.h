@@ -17,7 +17,9 @@
 // date after every edge, so with the same inputs the ico pass would compute what is already
 // there. The harness keeps an Inputs record of the values it last evaluated with; the
 // public eval() (settle(), and a clock that goes into a waveform) runs the ico pass itself,
-// so the harness records the inputs after each (Inputs::sync).
+// so the harness records the inputs after each (Inputs::sync). An input that the ico pass
+// does not read need not be in the record: the Makefile's verilate checks the generated
+// input logic for the inputs a harness leaves out, and stops the build if it reads one.
 //
 // The first eval() must be the public one (it runs the model's initial blocks); settle() is
 // that eval() again, without an edge. A clock that goes into a waveform takes the public
