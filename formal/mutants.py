@@ -66,6 +66,8 @@ MUTANTS = [
      "                    if (rx_q) begin\n", "                    if (1'b1) begin\n"),
     ("bsd_parser", "prove", "bsd_parser.v", "N = 9..15 taken as a command's length: N > 8 reaches the executor",
      "len_over = (|b[7:4]) | (b[3] & (|b[2:0]));", "len_over = (|b[7:4]);"),
+    ("bsd_parser", "prove", "bsd_parser.v", "the idle LFSR's end one tick early: a partial packet dropped too soon",
+     "IDLE_POW = lfsr_pow(TIMEOUT_TICKS - 1);", "IDLE_POW = lfsr_pow(TIMEOUT_TICKS - 2);", "UNKNOWN"),
     ("brainstem_dio", "bmc", "brainstem_dio.v", "bsd_pkt_tx never sees the sink's stall: a stalled byte is replaced",
      ".m_axis_tready (m_axis_tready),", ".m_axis_tready (1'b1),"),
     ("brainstem_dio", "reset_bmc", "bsd_pkt_tx.v",
