@@ -215,9 +215,7 @@ module bsd_parser #(
         // with the byte taken, and the executor reads them only on
         // pkt_valid_q's clock, after the last one. A slot past N may take
         // later bytes; the executor uses only the first N. No reset: from
-        // reset to the first N the slots of d0..d2, which the executor reads
-        // for every packet (and in reset), take the offered byte; d3..d7 are
-        // read only for a cmdDEBUG echo, which has written them.
+        // reset to the first N every slot takes the offered byte.
         if (len_q) pkt_n_q <= s_axis_tdata[3:0];
         if (pos_q[0]) begin
             pkt_d0_q  <= s_axis_tdata;
@@ -231,17 +229,15 @@ module bsd_parser #(
         if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
         if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
 
-        // N and each data byte move the slot on: N shifts in the 1 (d0's slot
-        // next) and clears the rest, so no slot needs a mux of N and a shift.
-        if ((len_q || data_q) && take(s_axis_tvalid)) pos_q <= {pos_q[6:0], len_q};
-        if (len_q) pos_q[7:1] <= 7'd0;
         if (data_q && take(s_axis_tvalid)) begin  // a data byte
             rem_q  <= rem_q - 3'd1;
             last_q <= rem_q == 3'd1;
+            pos_q  <= {pos_q[6:0], 1'b0};
         end
         if (len_q && s_axis_tvalid) begin  // N (stop_q is 0 in len_q)
             rem_q  <= s_axis_tdata[2:0] - 3'd1;
             last_q <= len_one(s_axis_tdata[2:0]);
+            pos_q  <= 8'd1;
             // The kind of the packet this N makes (a command if it has data).
             pkt_kind_q <= (own_q && len_over(s_axis_tdata)) ? KIND_SERIAL :
                           (probe_q && len_zero(s_axis_tdata)) ? KIND_PROBE : KIND_CMD;
@@ -263,7 +259,7 @@ module bsd_parser #(
             own_q       <= 1'b0;
             probe_q     <= 1'b0;
             stop_q      <= 1'b0;
-            pos_q       <= 8'd7;  // d0..d2 follow the stream until the first N (below)
+            pos_q       <= 8'hFF;  // every slot follows the stream until the first N
             idle_q      <= {{(LW-1){1'b0}}, 1'b1};
             pkt_valid_q <= 1'b0;
             pkt_kind_q  <= KIND_CMD;
