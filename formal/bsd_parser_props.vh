@@ -17,6 +17,7 @@
 // - s_axis_tready exact: 0 only in reset, or with hold_i while a probe/serialError waits to be
 //   handed over or the next byte is the last of a command;
 // - induction: the design's registers agree with the reference.
+    localparam integer TW = $clog2(TIMEOUT_TICKS + 1);  // the idle tick count's width
     reg         f_past_valid = 1'b0;
     reg         f_rst_q, f_sv_q, f_sr_q, f_hold_q;
     reg  [7:0]  f_sd_q;
@@ -151,7 +152,7 @@
             end
             if (f_st != F_ADDR) begin
                 assert(own_q == f_own && probe_q == (f_addr == ADDR_RESYNC));
-                assert(idle_q == IDLE_INIT[TW:0] + {1'b0, f_idle} && f_idle < TIMEOUT_TICKS &&
+                assert(idle_q == lfsr_pow({{(32-TW){1'b0}}, f_idle}) && f_idle < TIMEOUT_TICKS &&
                        f_tk == {1'b0, f_idle});
             end
             if (f_st == F_LEN) assert(f_nb == 4'd1);

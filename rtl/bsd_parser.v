@@ -36,10 +36,68 @@ module bsd_parser #(
     // Idle ticks that drop a partial packet: one more than ceil(US / 1.6),
     // so the drop never comes before RX_TIMEOUT_US whatever the tick phase.
     localparam integer TIMEOUT_TICKS = (RX_TIMEOUT_US * 5 + 7) / 8 + 1;
-    localparam integer TW = $clog2(TIMEOUT_TICKS + 1);
-    // The idle count starts at IDLE_INIT, so its top bit sets on the
-    // (TIMEOUT_TICKS - 1)-th idle tick: the count's carry is the compare.
-    localparam integer IDLE_INIT = (1 << TW) - (TIMEOUT_TICKS - 1);
+
+    // The idle ticks are counted by a Galois LFSR (no adder: a flop a bit and
+    // one XOR): it starts at 1 and steps by a multiplication by x modulo
+    // a primitive polynomial of degree LW, so after k idle ticks it holds
+    // x^k mod the polynomial, distinct for k < 2^LW - 1. IDLE_END, the value
+    // after TIMEOUT_TICKS - 1 ticks, marks that the next idle tick drops.
+    // Only localparam initializers call them: they run while elaborating, never in simulation.
+    /* verilator coverage_off */
+    // A primitive trinomial's terms below x^w (one XOR in the LFSR), for the
+    // widths 2..31 that have one; 0 for the others.
+    function [31:0] lfsr_poly(input integer w);
+        case (w)
+            2, 3, 4, 6, 7, 15, 22:  lfsr_poly = 32'h3;
+            5, 11, 21, 29:          lfsr_poly = 32'h5;
+            9:                      lfsr_poly = 32'h11;
+            10, 17, 20, 25, 28, 31: lfsr_poly = 32'h9;
+            18:                     lfsr_poly = 32'h81;
+            23:                     lfsr_poly = 32'h21;
+            default:                lfsr_poly = 32'h0;
+        endcase
+    endfunction
+    // The width: the least (2 or more) with a trinomial whose LFSR runs
+    // TIMEOUT_TICKS - 1 steps without a repeat (its period is 2^w - 1).
+    function integer lfsr_width(input integer ticks);
+        begin
+            lfsr_width = 2;
+            while (lfsr_width < 31 &&
+                   (((64'd1 << lfsr_width) - 64'd1) < {32'd0, ticks} || lfsr_poly(lfsr_width) == 32'h0))
+                lfsr_width = lfsr_width + 1;
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam integer    LW       = lfsr_width(TIMEOUT_TICKS);
+    localparam [31:0]     LFSR_P   = lfsr_poly(LW);
+    // a * b modulo the polynomial, and x^n modulo it.
+    /* verilator coverage_off */
+    function [31:0] lfsr_mul(input [31:0] a, input [31:0] b);
+        integer i;
+        begin
+            lfsr_mul = 32'd0;
+            for (i = LW - 1; i >= 0; i = i - 1) begin
+                lfsr_mul = ((lfsr_mul << 1) & ((32'd1 << LW) - 32'd1)) ^
+                           (lfsr_mul[LW-1] ? LFSR_P : 32'd0);
+                if (b[i]) lfsr_mul = lfsr_mul ^ a;
+            end
+        end
+    endfunction
+    function [31:0] lfsr_pow(input [31:0] n);
+        integer   i;
+        reg [31:0] base;
+        begin
+            lfsr_pow = 32'd1;
+            base     = 32'd2;  // x (LW >= 2)
+            for (i = 0; i < 32; i = i + 1) begin
+                if (n[i]) lfsr_pow = lfsr_mul(lfsr_pow, base);
+                base = lfsr_mul(base, base);
+            end
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [31:0]     IDLE_POW = lfsr_pow(TIMEOUT_TICKS - 1);
+    localparam [LW-1:0]   IDLE_END = IDLE_POW[LW-1:0];
 
     // ------------------------------------------------------------ registers
     // The state, one flag each (none set: waiting for an address).
@@ -52,7 +110,7 @@ module bsd_parser #(
     reg           last_q;   // the next data byte is the packet's last
     reg           stop_q;   // the next byte waits while hold_i (below)
     reg  [7:0]    pos_q;    // one-hot: the slot of the next data byte
-    reg  [TW:0]   idle_q;   // IDLE_INIT + idle ticks; [TW]: the next idle tick drops
+    reg  [LW-1:0] idle_q;   // x^(idle ticks) mod the polynomial (above)
     // The packet handed to the executor.
     reg           pkt_valid_q;
     reg  [1:0]    pkt_kind_q;
@@ -128,7 +186,7 @@ module bsd_parser #(
         reg tmo, to_pend, to_data;
         begin
             // An idle tick now drops a partial packet (idle_q below).
-            tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q[TW];
+            tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
             to_pend = (own_q && len_over(b)) || (probe_q && len_zero(b));
             to_data = !len_over(b) && !len_zero(b);
             if (stop_q)
@@ -190,8 +248,9 @@ module bsd_parser #(
         end
         // Idle ticks count while a partial packet could take a byte and none
         // is offered; the TIMEOUT_TICKS-th drops the packet.
-        if (take(s_axis_tvalid)) idle_q <= IDLE_INIT[TW:0];
-        else if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q)) idle_q <= idle_q + 1'b1;
+        if (take(s_axis_tvalid)) idle_q <= {{(LW-1){1'b0}}, 1'b1};
+        else if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q))
+            idle_q <= {idle_q[LW-2:0], 1'b0} ^ ({LW{idle_q[LW-1]}} & LFSR_P[LW-1:0]);
         {len_q, data_q, pend_q, stop_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
         if (rst) begin
             len_q       <= 1'b0;
@@ -201,7 +260,7 @@ module bsd_parser #(
             probe_q     <= 1'b0;
             stop_q      <= 1'b0;
             pos_q       <= 8'hFF;  // every slot follows the stream until the first N
-            idle_q      <= IDLE_INIT[TW:0];
+            idle_q      <= {{(LW-1){1'b0}}, 1'b1};
             pkt_valid_q <= 1'b0;
             pkt_kind_q  <= KIND_CMD;
         end
