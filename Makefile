@@ -40,7 +40,7 @@ sim_decimal = $(if $(strip $(2)),,$(error $(1) is empty))$(if $(call no_digits,$
 SCRIPT  ?= sim/demo.txt
 SIM_DIR := sim/build/clk$(CLK_HZ)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
 SIM_BIN := $(SIM_DIR)/session
-SIM_HDRS := Makefile $(RTL) rtl/bsd_protocol.vh sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h \
+SIM_HDRS := Makefile $(RTL) rtl/bsd_protocol.vh rtl/bsd_lfsr.vh sim/script.h sim/transcript.h sim/trace.h sim/fast_eval.h \
 	sim/bsd_protocol.h sim/bsd_protocol.mk
 SIM_DEPS := $(SIM_HDRS) sim/session.cpp
 # Without lz4's header (Debian: liblz4-dev) Verilator's FST writer does not build: VCD then.

@@ -152,7 +152,7 @@
             end
             if (f_st != F_ADDR) begin
                 assert(own_q == f_own && probe_q == (f_addr == ADDR_RESYNC));
-                assert(idle_q == lfsr_pow({{(32-TW){1'b0}}, f_idle}) && f_idle < TIMEOUT_TICKS &&
+                assert(idle_q == lfsr_pow({{(32-TW){1'b0}}, f_idle}, LW, LFSR_P) && f_idle < TIMEOUT_TICKS &&
                        f_tk == {1'b0, f_idle});
             end
             if (f_st == F_LEN) assert(f_nb == 4'd1);

@@ -22,7 +22,7 @@
                 if (!f_past_valid) assume(rst);
                 if (f_past_valid) begin
                     assert(f_k < MOD0);
-                    assert({{(32-LW){1'b0}}, lfsr_q} == lfsr_pow(f_k));
+                    assert({{(32-LW){1'b0}}, lfsr_q} == lfsr_pow(f_k, LW, LFSR_P));
                     assert(tick_q == f_tick);
                 end
             end

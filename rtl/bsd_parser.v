@@ -42,61 +42,10 @@ module bsd_parser #(
     // a primitive polynomial of degree LW, so after k idle ticks it holds
     // x^k mod the polynomial, distinct for k < 2^LW - 1. IDLE_END, the value
     // after TIMEOUT_TICKS - 1 ticks, marks that the next idle tick drops.
-    // Only localparam initializers call them: they run while elaborating, never in simulation.
-    /* verilator coverage_off */
-    // A primitive trinomial's terms below x^w (one XOR in the LFSR), for the
-    // widths 2..31 that have one; 0 for the others.
-    function [31:0] lfsr_poly(input integer w);
-        case (w)
-            2, 3, 4, 6, 7, 15, 22:  lfsr_poly = 32'h3;
-            5, 11, 21, 29:          lfsr_poly = 32'h5;
-            9:                      lfsr_poly = 32'h11;
-            10, 17, 20, 25, 28, 31: lfsr_poly = 32'h9;
-            18:                     lfsr_poly = 32'h81;
-            23:                     lfsr_poly = 32'h21;
-            default:                lfsr_poly = 32'h0;
-        endcase
-    endfunction
-    // The width: the least (2 or more) with a trinomial whose LFSR runs
-    // TIMEOUT_TICKS - 1 steps without a repeat (its period is 2^w - 1).
-    function integer lfsr_width(input integer ticks);
-        begin
-            lfsr_width = 2;
-            while (lfsr_width < 31 &&
-                   (((64'd1 << lfsr_width) - 64'd1) < {32'd0, ticks} || lfsr_poly(lfsr_width) == 32'h0))
-                lfsr_width = lfsr_width + 1;
-        end
-    endfunction
-    /* verilator coverage_on */
+    `include "bsd_lfsr.vh"
     localparam integer    LW       = lfsr_width(TIMEOUT_TICKS);
     localparam [31:0]     LFSR_P   = lfsr_poly(LW);
-    // a * b modulo the polynomial, and x^n modulo it.
-    /* verilator coverage_off */
-    function [31:0] lfsr_mul(input [31:0] a, input [31:0] b);
-        integer i;
-        begin
-            lfsr_mul = 32'd0;
-            for (i = LW - 1; i >= 0; i = i - 1) begin
-                lfsr_mul = ((lfsr_mul << 1) & ((32'd1 << LW) - 32'd1)) ^
-                           (lfsr_mul[LW-1] ? LFSR_P : 32'd0);
-                if (b[i]) lfsr_mul = lfsr_mul ^ a;
-            end
-        end
-    endfunction
-    function [31:0] lfsr_pow(input [31:0] n);
-        integer   i;
-        reg [31:0] base;
-        begin
-            lfsr_pow = 32'd1;
-            base     = 32'd2;  // x (LW >= 2)
-            for (i = 0; i < 32; i = i + 1) begin
-                if (n[i]) lfsr_pow = lfsr_mul(lfsr_pow, base);
-                base = lfsr_mul(base, base);
-            end
-        end
-    endfunction
-    /* verilator coverage_on */
-    localparam [31:0]     IDLE_POW = lfsr_pow(TIMEOUT_TICKS - 1);
+    localparam [31:0]     IDLE_POW = lfsr_pow(TIMEOUT_TICKS - 1, LW, LFSR_P);
     localparam [LW-1:0]   IDLE_END = IDLE_POW[LW-1:0];
 
     // ------------------------------------------------------------ registers
