@@ -196,7 +196,8 @@ fusesoc-check: $(STAMP)
 # (formal/mutants.py edits them there). formal-quick (make test): the prove tasks but
 # FORMAL_SLOW, and a sample cover and bmc.
 FORMAL_WORK ?= formal
-FORMAL_SLOW := bsd_tick_gen_prove_clk48m
+# prove_poll12m: the LFSR divider that prove_inc1 proves at a modulus of 10, at 1200.
+FORMAL_SLOW := bsd_tick_gen_prove_clk48m bsd_tick_gen_prove_poll12m
 FORMAL_SAMPLE := bsd_axis_skid_cover bsd_uart_tx_bmc
 formal_tasks = $(shell awk '/^\[/ { t = /^\[tasks\]/; next } t && NF && $$1 ~ /$(1)/ \
 	{ f = FILENAME; sub(/.*\//, "", f); sub(/\.sby$$/, "", f); print f ":" $$1 }' formal/*.sby)

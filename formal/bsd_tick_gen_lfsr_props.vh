@@ -5,15 +5,17 @@
 // MOD0 - 1). Asserted: the strobe exactly on the clock after the reference reaches
 // MOD0 - 1; induction: the LFSR holds x^f_k modulo its trinomial.
             reg        f_past_valid = 1'b0;
-            reg [31:0] f_k;
+            // As narrow as MOD0 needs: the power of x below is then a small circuit.
+            localparam integer KW = $clog2(MOD0 + 1);
+            reg [KW-1:0] f_k;
             reg        f_tick;
 
             always @(posedge clk) begin
                 f_past_valid <= 1'b1;
-                f_k    <= f_k == MOD0 - 1 ? 32'd0 : f_k + 32'd1;
+                f_k    <= f_k == MOD0 - 1 ? {KW{1'b0}} : f_k + 1'b1;
                 f_tick <= f_k == MOD0 - 1;
                 if (rst) begin
-                    f_k    <= 32'd0;
+                    f_k    <= {KW{1'b0}};
                     f_tick <= 1'b0;
                 end
             end
@@ -22,7 +24,7 @@
                 if (!f_past_valid) assume(rst);
                 if (f_past_valid) begin
                     assert(f_k < MOD0);
-                    assert({{(32-LW){1'b0}}, lfsr_q} == lfsr_pow(f_k, LW, LFSR_P));
+                    assert({{(32-LW){1'b0}}, lfsr_q} == lfsr_pow({{(32-KW){1'b0}}, f_k}, LW, LFSR_P));
                     assert(tick_q == f_tick);
                 end
             end
