@@ -13,12 +13,15 @@
 // the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
 // earlier run never counts); expire_o only names inserted timers; an insert never shares
 // the write port with a slot's clearing (the scanner waits instead); an insert sets its
-// timer's bit of the slot and no other, a clearing empties the slot.
+// timer's bit of the slot and no other, a clearing empties the slot; a timer is marked
+// inserted exactly on the clock after its insert (without the mark its timeout never shows).
     localparam [NUM_TIMERS-1:0] ONE = 1;
+    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan3_q) : NONE;
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q, f_tick2_q;
     reg [NUM_TIMERS-1:0] f_start_q, f_start2_q, f_start3_q;
     reg [NUM_TIMERS-1:0] f_run_q;
+    reg [NUM_TIMERS-1:0] f_ins_q, f_insreg_q;  // last clock's insert, and its ins_q
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -29,9 +32,9 @@
         f_start2_q <= rst ? NONE : f_start_q;
         f_start3_q <= rst ? NONE : f_start2_q;
         f_run_q    <= run_i;
+        f_ins_q    <= rst ? NONE : f_ins_now;
+        f_insreg_q <= ins_q;
     end
-
-    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan3_q) : NONE;
 
     always @(*) begin
         if (!f_past_valid) assume(rst);
@@ -49,6 +52,7 @@
             assert((f_start_q & (ins_q | expire_o)) == NONE);
             assert((expire_o & ~ins_q) == NONE);
             assert(!(insert && clear));
+            assert((ins_q & ~f_insreg_q) == f_ins_q);
             // induction: the stage-2 flags follow the clocks they were taken on
             if (f_start_q != NONE || f_start2_q != NONE) assert(stale_q);
             if (f_start_q != NONE || f_start2_q != NONE || f_start3_q != NONE) assert(stale3_q);
