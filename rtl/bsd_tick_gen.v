@@ -41,10 +41,9 @@ module bsd_tick_gen #(
     /* verilator coverage_on */
     `include "bsd_lfsr.vh"
 
-    localparam integer G0     = gcd(CLK_HZ, RATE_HZ == 0 ? 1 : RATE_HZ);
-    localparam integer MOD0   = CLK_HZ / G0;
-    localparam integer LW     = lfsr_width(MOD0);
-    localparam [31:0]  LFSR_P = lfsr_poly(LW);
+    // g = gcd(CLK, RATE) and the modulus CLK/g, which both counters below use.
+    localparam integer G0   = gcd(CLK_HZ, RATE_HZ == 0 ? 1 : RATE_HZ);
+    localparam integer MOD0 = CLK_HZ / G0;
 
     generate
         if (RATE_HZ == 0) begin : g_every_clock
@@ -53,6 +52,8 @@ module bsd_tick_gen #(
                 if (rst) tick_q <= 1'b0;
             end
         end else if (RATE_HZ / G0 == 1) begin : g_lfsr
+            localparam integer  LW       = lfsr_width(MOD0);
+            localparam [31:0]   LFSR_P   = lfsr_poly(LW);
             localparam [31:0]   WRAP_POW = lfsr_pow(MOD0 - 1, LW, LFSR_P);
             localparam [LW-1:0] WRAP     = WRAP_POW[LW-1:0];
             localparam [LW-1:0] ONE      = 1;
@@ -72,9 +73,8 @@ module bsd_tick_gen #(
 `include "bsd_tick_gen_lfsr_props.vh"
 `endif
         end else begin : g_accumulator
-            localparam integer G   = gcd(CLK_HZ, RATE_HZ);
-            localparam integer INC = RATE_HZ / G;
-            localparam integer MOD = CLK_HZ / G;
+            localparam integer INC = RATE_HZ / G0;
+            localparam integer MOD = MOD0;
             // acc < MOD always, and the adder below works mod 2^W (acc + INC is
             // never formed beside it), so W holds MOD - 1 and no more.
             localparam integer W = MOD > 1 ? $clog2(MOD) : 1;
