@@ -130,21 +130,25 @@ module bsd_parser #(
         len_one = b == 3'd1;
     endfunction
 
-    // {len, data, pend, stop, pkt_valid}: the state flags' next values.
+    // {len, data, pend, stop, pkt_valid}: the state flags' next values. The two cases in which
+    // every flag but pkt_valid keeps its value (a byte held: hold_i in stop_q; no byte and no
+    // tick outside stop_q) have branches of their own with the values of the general terms,
+    // so that a simulator works out a test or two on those clocks, not the terms.
     function [4:0] next_state(input v, input [7:0] b);
         reg tmo, to_pend, to_data;
         begin
-            // An idle tick now drops a partial packet (idle_q below).
-            tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
-            to_pend = (own_q && len_over(b)) || (probe_q && len_zero(b));
-            to_data = !len_over(b) && !len_zero(b);
-            if (stop_q)
-                next_state = {pend_q && v && !hold_i,
-                              data_q && (hold_i || (!v && !tmo)),
-                              pend_q && hold_i,
-                              hold_i || (data_q && !v && !tmo),
-                              !hold_i && (pend_q || (data_q && v))};
-            else
+            if (stop_q && hold_i) begin
+                next_state = {1'b0, data_q, pend_q, 2'b10};
+            end else if (stop_q) begin
+                tmo = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
+                next_state = {pend_q && v, data_q && !v && !tmo, 1'b0,
+                              data_q && !v && !tmo, pend_q || (data_q && v)};
+            end else if (!v && !tick_i) begin
+                next_state = {len_q, data_q, 3'b000};
+            end else begin
+                tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
+                to_pend = (own_q && len_over(b)) || (probe_q && len_zero(b));
+                to_data = !len_over(b) && !len_zero(b);
                 // (a packet to this module with its next byte its last, or a packet pending)
                 next_state = {(!len_q && !data_q && v) || (len_q && !v && !tmo),
                               (len_q && v && to_data) || (data_q && (v ? !last_q : !tmo)),
@@ -152,6 +156,7 @@ module bsd_parser #(
                               v && ((len_q && ((to_data && own_q && len_one(b[2:0])) || to_pend)) ||
                                     (data_q && own_q && rem_q == 3'd1)),
                               1'b0};
+            end
         end
     endfunction
 
