@@ -549,7 +549,10 @@ module brainstem_dio #(
     // timer events: T needs no mux, and r and f none either (the drain masks
     // them with ev_timers_i).
     // (the DIG_IO value's ID, bits 6:1 of these, as constant as it is)
-    wire [9:0]    ev_mid  = evq_valid ? evq_data[25:16] : ev_entry[25:16];
+    // (The skipping entry's fields are named, not sliced from ev_entry: ev_entry then has a
+    // single reader, the queue's write, and a simulator builds it only on a write's clock.)
+    wire [9:0]    ev_mid  = evq_valid ? evq_data[25:16] :
+                            {rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val};
     wire [DW-1:0] ev_data = {evq_data[DW-1:26], ev_mid[9:7], ev_mid[6:1] & PID_ANY | PID_ALL, ev_mid[0],
                              evq_data[15:0]};
 
