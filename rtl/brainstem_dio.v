@@ -548,13 +548,16 @@ module brainstem_dio #(
     // A skipping entry has no timer event, and the drain reads T only for
     // timer events: T needs no mux, and r and f none either (the drain masks
     // them with ev_timers_i).
-    // (the DIG_IO value's ID, bits 6:1 of these, as constant as it is)
+    // (the DIG_IO value's ID, bits 6:1 of the middle field, as constant as it is: one mask
+    // over the whole word, which a simulator applies with two operations)
     // (The skipping entry's fields are named, not sliced from ev_entry: ev_entry then has a
     // single reader, the queue's write, and a simulator builds it only on a write's clock.)
-    wire [9:0]    ev_mid  = evq_valid ? evq_data[25:16] :
-                            {rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val};
-    wire [DW-1:0] ev_data = {evq_data[DW-1:26], ev_mid[9:7], ev_mid[6:1] & PID_ANY | PID_ALL, ev_mid[0],
-                             evq_data[15:0]};
+    localparam [DW-1:0] EV_KEEP = {{(DW - 26){1'b1}}, 3'b111, PID_ANY, 1'b1, 16'hFFFF};
+    localparam [DW-1:0] EV_SET  = {{(DW - 26){1'b0}}, 3'b000, PID_ALL, 1'b0, 16'h0000};
+    wire [DW-1:0] ev_data = {evq_data[DW-1:26],
+                             evq_valid ? evq_data[25:16] :
+                                         {rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val},
+                             evq_data[15:0]} & EV_KEEP | EV_SET;
 
     bsd_drain #(
         .NUM_PINS      (NUM_PINS),
