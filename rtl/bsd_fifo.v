@@ -136,14 +136,13 @@ module bsd_fifo #(
         // them out only on a clock that moves a pointer)
         if (push) wr_q <= step(wr_q);
         if (pop) rd_q <= step(rd_q);
-        // One word from empty / full: a lone pop empties, a lone push fills.
-        if (push && !pop) begin
-            ram_empty_q <= 1'b0;
-            ram_full_q  <= step(wr_q) == rd_q;
-        end
-        if (pop && !push) begin
-            ram_full_q  <= 1'b0;
-            ram_empty_q <= step(rd_q) == wr_q;
+        // One word from empty / full: a lone pop empties, a lone push fills
+        // (a push never meets a full RAM, nor a pop an empty one). The full
+        // flag's next value does not wait for push (s_axis_tvalid, a long
+        // path in the top): push only enables it.
+        if (push || pop) begin
+            ram_full_q  <= !pop && step(wr_q) == rd_q;
+            ram_empty_q <= !push && step(rd_q) == wr_q;
         end
         if (!skid_valid) skid_data_q <= out_data_q;  // kept only when skid_valid rises
         if (skid_valid) begin
