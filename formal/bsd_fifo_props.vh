@@ -9,8 +9,20 @@
     reg [WIDTH-1:0] f_sd_q, f_md_q;
     reg [WIDTH-1:0] f_in_cnt, f_out_cnt;
     wire [WIDTH-1:0] f_held = f_in_cnt - f_out_cnt;
+    // The pointers step through the addresses in the LFSR's order: their positions in that
+    // order (f_wr_n, f_rd_n, counted by + 1 beside them) are what the occupancy is made of.
+    reg [AW-1:0]     f_wr_n, f_rd_n;
+    // The address k steps after a.
+    function [AW-1:0] f_after(input [AW-1:0] a, input integer k);
+        integer f_s;
+        begin
+            f_after = a;
+            for (f_s = 0; f_s < DEPTH; f_s = f_s + 1)
+                if (f_s < k) f_after = step(f_after);
+        end
+    endfunction
     // The RAM's words: the pointers' distance, or DEPTH when full (equal pointers either way).
-    wire [AW:0]      f_ram  = ram_full_q ? DEPTH[AW:0] : {1'b0, wr_q - rd_q};
+    wire [AW:0]      f_ram  = ram_full_q ? DEPTH[AW:0] : {1'b0, f_wr_n - f_rd_n};
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -19,9 +31,13 @@
         f_mv_q <= m_axis_tvalid; f_mr_q <= m_axis_tready; f_md_q <= m_axis_tdata;
         if (s_axis_tvalid && s_axis_tready) f_in_cnt  <= f_in_cnt + 1'b1;
         if (m_axis_tvalid && m_axis_tready) f_out_cnt <= f_out_cnt + 1'b1;
+        if (push) f_wr_n <= f_wr_n + 1'b1;
+        if (pop)  f_rd_n <= f_rd_n + 1'b1;
         if (rst) begin
             f_in_cnt  <= {WIDTH{1'b0}};
             f_out_cnt <= {WIDTH{1'b0}};
+            f_wr_n    <= {AW{1'b0}};
+            f_rd_n    <= {AW{1'b0}};
         end
     end
 
@@ -58,6 +74,13 @@
             assert(ram_full_q == (f_ram == DEPTH));
             assert(!(ram_full_q && ram_empty_q));
             if (ram_full_q) assert(wr_q == rd_q);
+            // Each pointer is the address its position names (from 0 at reset), and the
+            // LFSR's order visits every address before it repeats.
+            assert(wr_q == f_after({AW{1'b0}}, f_wr_n));
+            assert(rd_q == f_after({AW{1'b0}}, f_rd_n));
+            assert(f_after({AW{1'b0}}, DEPTH) == {AW{1'b0}});
+            for (f_k = 1; f_k < DEPTH; f_k = f_k + 1)
+                assert(f_after({AW{1'b0}}, f_k) != {AW{1'b0}});
             assert(s_axis_tready == (f_ram != DEPTH));
             assert(empty_o == (f_held == 0));
             // Never a read and a write of one RAM address on one clock.
@@ -66,7 +89,7 @@
             for (f_k = 0; f_k < DEPTH; f_k = f_k + 1)
                 if (f_k < f_ram) begin
                     f_exp = f_out_cnt + out_valid_q + skid_valid + f_k;
-                    assert(mem[(rd_q + f_k) % DEPTH] == f_exp);
+                    assert(mem[f_after(rd_q, f_k)] == f_exp);
                 end
         end
     end

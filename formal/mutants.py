@@ -21,7 +21,7 @@ MUTANTS = [
     ("bsd_axis_skid", "prove", "bsd_axis_skid.v", "draining the skid sends the input word instead of the skid word",
      "out_data_q <= skid_valid_q ? skid_q : s_axis_tdata;", "out_data_q <= s_axis_tdata;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "full flag never set: the RAM overflows",
-     "wire        one_free  = (wr_inc == rd_q);", "wire        one_free  = 1'b0;"),
+     "ram_full_q  <= !pop && step(wr_q) == rd_q;", "ram_full_q  <= 1'b0;"),
     ("bsd_fifo", "prove", "bsd_fifo.v", "a read while the output waits overwrites the read register: the head is lost",
      "        end else if (pop && out_valid_q && !m_axis_tready) begin", "        end else if (1'b0) begin"),
     ("bsd_timer_bank", "prove", "bsd_timer_bank.v",

@@ -112,8 +112,23 @@ module bsd_drain #(
     // The pick is functions of the entry's flops called in the clocked block
     // on a clock with an item (not next), not wires: a simulator then works
     // it out only there, not on every clock (synthesis: the same gates).
+    // v & ~(v - 1), not v & (~v + 1): the carry chain takes v itself, not an
+    // inverter per bit (iCE40's carry has no inverted input). A few timers:
+    // a priority chain, smaller still and a few steps in simulation.
     function [NT-1:0] lowest(input [NT-1:0] v);
-        lowest = v & (~v + {{(NT-1){1'b0}}, 1'b1});
+        integer t;
+        reg seen;
+        begin
+            if (NT <= 16) begin
+                seen = 1'b0;
+                for (t = 0; t < NT; t = t + 1) begin
+                    lowest[t] = v[t] && !seen;
+                    seen = seen || v[t];
+                end
+            end else begin
+                lowest = v & ~(v - {{(NT-1){1'b0}}, 1'b1});
+            end
+        end
     endfunction
     // The index of a one-hot timer vector: an OR per index bit.
     function [5:0] index_of(input [NT-1:0] oh);
@@ -216,7 +231,6 @@ module bsd_drain #(
     reg [5:0]  a_k_q;
     // Stage A reads the entry's T and DIG_IO value from t_q, dio_id_q and
     // dio_val_q: they hold the entry until the clock after its last item.
-    reg [5:0]  b_dio_id_q;
     reg        b_dio_val_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
     // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
@@ -252,9 +266,15 @@ module bsd_drain #(
         end
     end
 
-    wire [15:0] diff   = b_t16_q - ref_rd_q;
-    // "0 ticks" tested on the operands, beside the subtraction, not after it.
-    wire [15:0] result = b_tmo_q ? 16'd0 : (b_t16_q == ref_rd_q ? 16'd1 : diff);
+    // T - reference as T + ~reference + 1: iCE40's carry chain takes its
+    // operands uninverted, so ~reference is a LUT per bit anyway, and that
+    // LUT also makes a timeout's result 0 (T + ~T + 1), with no gate after
+    // the sum. "0 ticks" (sent as 1) is tested on the operands, beside the
+    // carry chain, not after it: bits 15:1 equal and the sum's bit 0 (its
+    // first, early off the chain) 0.
+    wire [15:0] ref_n  = b_tmo_q ? ~b_t16_q : ~ref_rd_q;
+    wire [15:0] diff   = b_t16_q + ref_n + 16'd1;
+    wire [15:0] result = {diff[15:1], !b_tmo_q && (diff[0] || b_t16_q[15:1] == ref_rd_q[15:1])};
 
     reg        rflx_valid_q;
     reg [5:0]  rflx_id_q;
@@ -274,7 +294,9 @@ module bsd_drain #(
     assign rflx_data_o   = rflx_data_q;
 
     // The timer's device ID from stage A's index (not from the pick: the ID's
-    // adder or table stays off the pick's carry chain).
+    // adder or table stays off the pick's carry chain), or the DIG_IO value's
+    // ID: either item's ID in the same flops, so the RFLX strobe's ID needs no
+    // mux of the two.
     reg  [5:0] b_id_q;
     wire [5:0] a_id = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];
 
@@ -312,7 +334,7 @@ module bsd_drain #(
             b_free_q  <= 1'b0;
         end
         if (a_dio_q) begin
-            b_dio_id_q  <= dio_id_q;
+            b_id_q      <= dio_id_q;
             b_dio_val_q <= dio_val_q;
         end
         b_dio_q  <= a_dio_q;
@@ -320,9 +342,12 @@ module bsd_drain #(
         b_hb_q   <= a_hb_q;
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         if (b_rdone_q || b_dio_q) begin
-            rflx_id_q     <= b_dio_q ? b_dio_id_q : b_id_q;
-            rflx_data_q   <= b_dio_q ? {15'd0, b_dio_val_q} : result;
+            rflx_id_q     <= b_id_q;
+            rflx_data_q   <= {result[15:1], b_dio_q ? b_dio_val_q : result[0]};
         end
+        // A DIG_IO value's bits 15:1 are 0: the flops' synchronous reset (with
+        // rst's), not a gate per bit.
+        if (rst || b_dio_q) rflx_data_q[15:1] <= 15'd0;
         if (rst) begin
             rem_q         <= {NT{1'b0}};
             rep_q         <= 1'b0;
@@ -342,7 +367,7 @@ module bsd_drain #(
             b_free_q      <= 1'b0;
             rflx_valid_q  <= 1'b0;
             rflx_id_q     <= 6'd0;
-            rflx_data_q   <= 16'd0;
+            rflx_data_q[0] <= 1'b0;
         end
     end
 

@@ -37,6 +37,8 @@ module bsd_fifo #(
     initial begin
         if (DEPTH < 2 || (1 << AW) != DEPTH)
             $fatal(1, "bsd_fifo: DEPTH = %0d must be a power of two, at least 2", DEPTH);
+        if (AW > 16)  // the pointers' LFSR taps (below) go to 16 bits
+            $fatal(1, "bsd_fifo: DEPTH = %0d is above 65536", DEPTH);
     end
 `endif
 
@@ -75,11 +77,47 @@ module bsd_fifo #(
     // then either leaves now or moves to the skid). Without: whenever the
     // read register is free or its word leaves now.
     wire pop       = !ram_empty_q && (SKID != 0 ? !skid_valid_q : (!out_valid_q || m_axis_tready));
-    // One word from empty / full: a lone pop empties, a lone push fills.
-    wire [AW-1:0] wr_inc  = wr_q + 1'b1;
-    wire [AW-1:0] rd_inc  = rd_q + 1'b1;
-    wire        one_left  = (rd_inc == wr_q);
-    wire        one_free  = (wr_inc == rd_q);
+    // The pointers step through the DEPTH addresses in a fixed order, not by
+    // + 1: a shift register whose new bit is the XOR of two (or four) of its
+    // bits, a maximal LFSR, with the all-zero state spliced into its cycle
+    // (the new bit also flips when the bits below the top are all 0), so
+    // that it visits every address. A step is a gate or two, not an
+    // incrementer (iCE40: a LUT per bit); both pointers walk the same order,
+    // which is all a queue needs.
+    // Only localparam initializers call it: it runs while elaborating, never in simulation.
+    /* verilator coverage_off */
+    function [15:0] taps(input integer w);
+        case (w)
+            1, 2:    taps = 16'h1 << (w - 1) | 16'h1;
+            3:       taps = 16'h5;
+            4:       taps = 16'h9;
+            5:       taps = 16'h12;
+            6:       taps = 16'h21;
+            7:       taps = 16'h41;
+            8:       taps = 16'h8E;
+            9:       taps = 16'h108;
+            10:      taps = 16'h204;
+            11:      taps = 16'h402;
+            12:      taps = 16'h829;
+            13:      taps = 16'h1013;
+            14:      taps = 16'h2803;
+            15:      taps = 16'h4001;
+            default: taps = 16'h8805;
+        endcase
+    endfunction
+    /* verilator coverage_on */
+    localparam [15:0]   TAPS_16 = taps(AW);
+    localparam [AW-1:0] TAPS = TAPS_16[AW-1:0];
+    localparam [AW-1:0] LOW  = {AW{1'b1}} >> 1;  // the bits below the top
+    function [AW-1:0] step(input [AW-1:0] p);
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [AW:0] s;  // p and the new bit; the top bit shifts out
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            s    = {p, ^(p & TAPS) ^ ((p & LOW) == {AW{1'b0}})};
+            step = s[AW-1:0];
+        end
+    endfunction
 
     assign s_axis_tready = !ram_full_q;
     assign empty_o       = ram_empty_q && !out_valid_q;
@@ -94,15 +132,17 @@ module bsd_fifo #(
     end
 
     always @(posedge clk) begin
-        if (push) wr_q <= wr_inc;
-        if (pop) rd_q <= rd_inc;
-        if (push && !pop) begin
-            ram_empty_q <= 1'b0;
-            ram_full_q  <= one_free;
-        end
-        if (pop && !push) begin
-            ram_full_q  <= 1'b0;
-            ram_empty_q <= one_left;
+        // (the steps called here, under their enables: a simulator works
+        // them out only on a clock that moves a pointer)
+        if (push) wr_q <= step(wr_q);
+        if (pop) rd_q <= step(rd_q);
+        // One word from empty / full: a lone pop empties, a lone push fills
+        // (a push never meets a full RAM, nor a pop an empty one). The full
+        // flag's next value does not wait for push (s_axis_tvalid, a long
+        // path in the top): push only enables it.
+        if (push || pop) begin
+            ram_full_q  <= !pop && step(wr_q) == rd_q;
+            ram_empty_q <= !push && step(rd_q) == wr_q;
         end
         if (!skid_valid) skid_data_q <= out_data_q;  // kept only when skid_valid rises
         if (skid_valid) begin

@@ -51,9 +51,8 @@ module bsd_pkt_tx #(
 );
     `include "bsd_protocol.vh"
 
-    localparam [1:0] KIND_TIMER = 2'd0;
+    // An item's kind (bsd_drain's KIND_*): 0 a timer result, 1 the reply, 2 the heartbeat.
     localparam [1:0] KIND_REPLY = 2'd1;
-    localparam [1:0] KIND_HB    = 2'd2;
     localparam [7:0] ADDR_OWN   = MODULE_ADDR[7:0];
 
     // The packet going out: its source and the byte offered. The bytes are
@@ -86,7 +85,12 @@ module bsd_pkt_tx #(
     wire       load = item_valid_i && free;
     wire       swap = flush_i && valid_q && first_q && !m_axis_tready;
     wire [1:0] kind = item_data_i[29:28];
-    wire [3:0] n    = kind == KIND_TIMER ? 4'd4 : kind == KIND_REPLY ? rep_n_i : 4'd2;
+    // The kinds are 0, 1 and 2 (never 3): bit 0 alone marks a reply, bit 1
+    // alone a heartbeat, so each test is one bit (a timer's: neither).
+    wire [3:0] n    = kind[0] ? rep_n_i : kind[1] ? 4'd2 : 4'd4;
+    wire       k_timer = !kind_q[0] && !kind_q[1];
+    wire       k_reply = kind_q[0];
+    wire       k_hb    = kind_q[1];
 
     // The byte on offer sits in a register (tdata_q), written as the packet
     // starts (the address) and on each handshake (the next byte), so a
@@ -120,10 +124,10 @@ module bsd_pkt_tx #(
     assign free_o        = free;
     assign idle_o        = !valid_q;
     assign swapped_o     = swapped_q;
-    assign timer_done_o  = done && kind_q == KIND_TIMER;
+    assign timer_done_o  = done && k_timer;
     assign timer_idx_o   = idx_q;
-    assign reply_done_o  = done && kind_q == KIND_REPLY;
-    assign hb_done_o     = done && kind_q == KIND_HB;
+    assign reply_done_o  = done && k_reply;
+    assign hb_done_o     = done && k_hb;
     assign m_axis_tdata  = tdata_q;
     assign m_axis_tvalid = valid_q;
     assign m_axis_tlast  = last_q;
@@ -146,21 +150,21 @@ module bsd_pkt_tx #(
             tdata_q  <= ADDR_OWN;
         end else if (hs) begin
             tdata_q     <= when(sel_addr_q, {4'd0, n_q}) |
-                           when(sel_n_q && kind_q == KIND_TIMER, CMD_DEV_VAL) |
+                           when(sel_n_q && k_timer, CMD_DEV_VAL) |
                            when(sel_tcmd_q, {2'b00, id_q}) | when(sel_tid_q, result_q[15:8]) |
                            when(sel_thi_q, result_q[7:0]) |
-                           rep_next(sel_n_q && kind_q == KIND_REPLY, sel_rep_q, rep_bytes) |
-                           when(sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY, CMD_HB) |
+                           rep_next(sel_n_q && k_reply, sel_rep_q, rep_bytes) |
+                           when(sel_n_q && k_hb, CMD_HB) |
                            when(sel_hcmd_q, hb_type_q);
             // The next byte's flag (none after a packet's last byte: a reply
             // has N <= 8, PROTOCOL.md).
             sel_addr_q  <= 1'b0;
             sel_n_q     <= sel_addr_q;
-            sel_tcmd_q  <= sel_n_q && kind_q == KIND_TIMER;
+            sel_tcmd_q  <= sel_n_q && k_timer;
             sel_tid_q   <= sel_tcmd_q;
             sel_thi_q   <= sel_tid_q;
-            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && kind_q == KIND_REPLY};
-            sel_hcmd_q  <= sel_n_q && kind_q != KIND_TIMER && kind_q != KIND_REPLY;
+            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && k_reply};
+            sel_hcmd_q  <= sel_n_q && k_hb;
             pos_q   <= pos_q + 4'd1;
             first_q <= 1'b0;
         end
