@@ -88,7 +88,8 @@ module bsd_fifo #(
     /* verilator coverage_off */
     function [15:0] taps(input integer w);
         case (w)
-            1, 2:    taps = 16'h1 << (w - 1) | 16'h1;
+            1:       taps = 16'h1;
+            2:       taps = 16'h3;
             3:       taps = 16'h5;
             4:       taps = 16'h9;
             5:       taps = 16'h12;
