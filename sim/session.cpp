@@ -48,6 +48,14 @@ namespace {
 
 using namespace bsdsim;
 
+// A packet's bytes on the wire from the script's form: the address, N (the data bytes' count),
+// then the data.
+std::vector<uint8_t> framed(const std::vector<uint8_t>& addr_and_data) {
+    std::vector<uint8_t> pkt{addr_and_data[0], static_cast<uint8_t>(addr_and_data.size() - 1)};
+    pkt.insert(pkt.end(), addr_and_data.begin() + 1, addr_and_data.end());
+    return pkt;
+}
+
 // The bytes waiting for s_axis, read through a pointer: a packet of send()'s, copied in, or
 // the benchmark's command stream, which stays where it is (a std::deque's front and pop_front
 // and a push per byte cost the benchmark about 20 instructions a clock).
@@ -133,8 +141,7 @@ class Session {
     }
 
     void send(const std::vector<uint8_t>& addr_and_data) {
-        std::vector<uint8_t> pkt{addr_and_data[0], static_cast<uint8_t>(addr_and_data.size() - 1)};
-        pkt.insert(pkt.end(), addr_and_data.begin() + 1, addr_and_data.end());
+        const std::vector<uint8_t> pkt = framed(addr_and_data);
         txq_.assign(pkt);  // empty: the last send() or reset() emptied it
         const uint64_t limit = cycle_ + static_cast<uint64_t>(kSendLimitS * kClkHz);
         while (!txq_.empty()) {
@@ -176,9 +183,8 @@ class Session {
         static const std::vector<uint8_t> stream = [] {
             std::vector<uint8_t> v;
             for (const auto& c : cmds) {
-                v.push_back(c[0]);
-                v.push_back(static_cast<uint8_t>(c.size() - 1));
-                v.insert(v.end(), c.begin() + 1, c.end());
+                const std::vector<uint8_t> pkt = framed(c);
+                v.insert(v.end(), pkt.begin(), pkt.end());
             }
             return v;
         }();
