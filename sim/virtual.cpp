@@ -775,6 +775,9 @@ std::string run(Board& b, Port& port) {
             lost += port.write(b.to_host());
             b.to_host().clear();
         }
+        // The transcript of the chunk just run goes out only now: a host that has read a
+        // packet's line may count on its bytes being in the pty.
+        std::fflush(stdout);
         if (lost && wall() - lost_report >= 1.0) {
             std::fprintf(stderr, "the host is not reading: %zu bytes to it lost\n", lost);
             lost = 0;
@@ -867,6 +870,7 @@ std::string run(Board& b, Port& port) {
         pollfd* first = console.eof() ? &fds[1] : &fds[0];
         const nfds_t count = nfds + (port.host() ? 1 : 0);
         timespec ts{0, static_cast<long>(sleep * 1e9)};
+        std::fflush(stdout);  // the lines of this turn's stdin steps
         if (count) ppoll(first, count, &ts, nullptr);
         else nanosleep(&ts, nullptr);
     }
@@ -961,7 +965,8 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    // Fully buffered: run() flushes a chunk's transcript after writing its bytes to the pty.
+    std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
     auto ctx = std::make_unique<VerilatedContext>();
     ctx->commandArgs(argc, argv);
     if (bench_seconds > 0) {
