@@ -302,23 +302,6 @@ module bsd_drain #(
     wire [5:0] a_id = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];
 
     always @(posedge clk) begin
-        // The entry: loaded as the last one's last item goes, then one item a clock.
-        if (next) begin
-            rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
-            r_q       <= ev_data_i[2*NT+25 -: NT];
-            f_q       <= ev_data_i[NT+25 -: NT];
-            any_t_q   <= ev_t;
-            rep_q     <= ev_valid_i && ev_data_i[25];
-            dio_q     <= ev_valid_i && ev_data_i[24];
-            hb_q      <= ev_valid_i && ev_data_i[23];
-            dio_id_q  <= ev_data_i[22:17];
-            dio_val_q <= ev_data_i[16];
-            t_q       <= ev_data_i[15:0];
-            empty_q   <= !(ev_valid_i && ev_items);
-            {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
-        end else begin
-            {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step(rem_q);
-        end
         // Stage B's data are loaded only with an item of their kind (order_data_o
         // and rflx_idx_o are read only with their valid flags).
         if (a_t_q) begin
@@ -341,6 +324,30 @@ module bsd_drain #(
         b_dio_q  <= a_dio_q;
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
+        // (the step before the load, which excludes it: the step reads the entry's
+        // flops before the load writes them, and a simulator keeps no copy of them)
+        if (!next)
+            {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step(rem_q);
+        if (next) begin
+            // The entry: loaded as the last one's last item goes, then one item a clock.
+            rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
+            any_t_q   <= ev_t;
+            rep_q     <= ev_valid_i && ev_data_i[25];
+            dio_q     <= ev_valid_i && ev_data_i[24];
+            hb_q      <= ev_valid_i && ev_data_i[23];
+            empty_q   <= !(ev_valid_i && ev_items);
+            // The entry's data only with an entry (they are read only with its
+            // items), so that a simulator copies them only then, not on every
+            // idle clock.
+            if (ev_valid_i) begin
+                r_q       <= ev_data_i[2*NT+25 -: NT];
+                f_q       <= ev_data_i[NT+25 -: NT];
+                dio_id_q  <= ev_data_i[22:17];
+                dio_val_q <= ev_data_i[16];
+                t_q       <= ev_data_i[15:0];
+            end
+            {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
+        end
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         if (b_rdone_q || b_dio_q) begin
             rflx_id_q     <= b_id_q;

@@ -133,10 +133,6 @@ module bsd_fifo #(
     end
 
     always @(posedge clk) begin
-        // (the steps called here, under their enables: a simulator works
-        // them out only on a clock that moves a pointer)
-        if (push) wr_q <= step(wr_q);
-        if (pop) rd_q <= step(rd_q);
         // One word from empty / full: a lone pop empties, a lone push fills
         // (a push never meets a full RAM, nor a pop an empty one). The full
         // flag's next value does not wait for push (s_axis_tvalid, a long
@@ -145,14 +141,20 @@ module bsd_fifo #(
             ram_full_q  <= !pop && step(wr_q) == rd_q;
             ram_empty_q <= !push && step(rd_q) == wr_q;
         end
+        // (the steps called here, under their enables: a simulator works
+        // them out only on a clock that moves a pointer; after the flags, which
+        // read the pointers, so that a simulator keeps no copy of them)
+        if (push) wr_q <= step(wr_q);
+        if (pop) rd_q <= step(rd_q);
         if (!skid_valid) skid_data_q <= out_data_q;  // kept only when skid_valid rises
         if (skid_valid) begin
             if (m_axis_tready) skid_valid_q <= 1'b0;
         end else if (pop && out_valid_q && !m_axis_tready) begin
             skid_valid_q <= SKID != 0;
         end
+        // (the clear, then the pop that overrides it: out_valid_q is read before it is written)
+        if (take && !skid_valid) out_valid_q <= 1'b0;
         if (pop) out_valid_q <= 1'b1;
-        else if (take && !skid_valid) out_valid_q <= 1'b0;
         if (rst) begin
             wr_q        <= {AW{1'b0}};
             rd_q        <= {AW{1'b0}};

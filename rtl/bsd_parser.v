@@ -161,8 +161,11 @@ module bsd_parser #(
     endfunction
 
     // (Ordered so that each flop is read before it is written, as far as
-    // the loops between them allow: a simulator then keeps fewer copies.)
+    // the loops between them allow: a simulator then keeps fewer copies. The
+    // next state first: it reads every flop but the slots, and only the state
+    // flags it writes are read after it.)
     always @(posedge clk) begin
+        {len_q, data_q, pend_q, stop_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
         // N and the data bytes take the offered byte whether or not it is
         // accepted (no tvalid or tready in these enables): the slot of the next
         // data byte follows the offered byte until it is taken, so it ends
@@ -184,8 +187,8 @@ module bsd_parser #(
         if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
 
         if (data_q && take(s_axis_tvalid)) begin  // a data byte
-            rem_q  <= rem_q - 3'd1;
             last_q <= rem_q == 3'd1;
+            rem_q  <= rem_q - 3'd1;
             pos_q  <= {pos_q[6:0], 1'b0};
         end
         if (len_q && s_axis_tvalid) begin  // N (stop_q is 0 in len_q)
@@ -202,10 +205,11 @@ module bsd_parser #(
         end
         // Idle ticks count while a partial packet could take a byte and none
         // is offered; the TIMEOUT_TICKS-th drops the packet.
-        if (take(s_axis_tvalid)) idle_q <= {{(LW-1){1'b0}}, 1'b1};
-        else if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q))
+        // (The step first, then the restart, which excludes it: idle_q is read before
+        // it is written.)
+        if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q))
             idle_q <= {idle_q[LW-2:0], 1'b0} ^ ({LW{idle_q[LW-1]}} & LFSR_P[LW-1:0]);
-        {len_q, data_q, pend_q, stop_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
+        if (take(s_axis_tvalid)) idle_q <= {{(LW-1){1'b0}}, 1'b1};
         if (rst) begin
             len_q       <= 1'b0;
             data_q      <= 1'b0;

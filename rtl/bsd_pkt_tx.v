@@ -133,9 +133,41 @@ module bsd_pkt_tx #(
     assign m_axis_tlast  = last_q;
 
     always @(posedge clk) begin
+        // valid_q, last_q and credit_q, whose enables would be the deepest
+        // (load || hs || swap, and the reset), take their next values as one
+        // expression each: the handshake then reaches their data inputs, not CEN.
+        // A packet is at least A, N: a load clears last_q; the next byte is
+        // d(N-1) when pos_q reaches N.
+        valid_q <= !rst && (load || (valid_q && !(hs && last_q)));
+        last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
+        // (one expression too) a flush without a swap: finished, credited to nobody
+        credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
         // The packet's registers load whenever an item would be taken (free),
         // offered or not, so that their enable does not wait for the queue's
         // offer: without one, valid_q stays 0 and they are never read.
+        // (The handshake's branch first: it reads pos_q and the flags that the load's
+        // writes, and a simulator keeps no copy of a flop read before it is written.)
+        if (hs && !free) begin
+            tdata_q     <= when(sel_addr_q, {4'd0, n_q}) |
+                           when(sel_n_q && k_timer, CMD_DEV_VAL) |
+                           when(sel_tcmd_q, {2'b00, id_q}) | when(sel_tid_q, result_q[15:8]) |
+                           when(sel_thi_q, result_q[7:0]) |
+                           rep_next(sel_n_q && k_reply, sel_rep_q, rep_bytes) |
+                           when(sel_n_q && k_hb, CMD_HB) |
+                           when(sel_hcmd_q, hb_type_q);
+            // The next byte's flag (none after a packet's last byte: a reply
+            // has N <= 8, PROTOCOL.md).
+            // (from the chain's end back: each flag is read before it is written)
+            sel_hcmd_q  <= sel_n_q && k_hb;
+            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && k_reply};
+            sel_thi_q   <= sel_tid_q;
+            sel_tid_q   <= sel_tcmd_q;
+            sel_tcmd_q  <= sel_n_q && k_timer;
+            sel_n_q     <= sel_addr_q;
+            sel_addr_q  <= 1'b0;
+            pos_q   <= pos_q + 4'd1;
+            first_q <= 1'b0;
+        end
         if (free) begin
             pos_q    <= 4'd0;
             n_q      <= n;
@@ -148,36 +180,8 @@ module bsd_pkt_tx #(
             {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
             {sel_rep_q, sel_hcmd_q} <= 8'd0;
             tdata_q  <= ADDR_OWN;
-        end else if (hs) begin
-            tdata_q     <= when(sel_addr_q, {4'd0, n_q}) |
-                           when(sel_n_q && k_timer, CMD_DEV_VAL) |
-                           when(sel_tcmd_q, {2'b00, id_q}) | when(sel_tid_q, result_q[15:8]) |
-                           when(sel_thi_q, result_q[7:0]) |
-                           rep_next(sel_n_q && k_reply, sel_rep_q, rep_bytes) |
-                           when(sel_n_q && k_hb, CMD_HB) |
-                           when(sel_hcmd_q, hb_type_q);
-            // The next byte's flag (none after a packet's last byte: a reply
-            // has N <= 8, PROTOCOL.md).
-            sel_addr_q  <= 1'b0;
-            sel_n_q     <= sel_addr_q;
-            sel_tcmd_q  <= sel_n_q && k_timer;
-            sel_tid_q   <= sel_tcmd_q;
-            sel_thi_q   <= sel_tid_q;
-            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && k_reply};
-            sel_hcmd_q  <= sel_n_q && k_hb;
-            pos_q   <= pos_q + 4'd1;
-            first_q <= 1'b0;
         end
-        // valid_q, last_q and credit_q, whose enables would be the deepest
-        // (load || hs || swap, and the reset), take their next values as one
-        // expression each: the handshake then reaches their data inputs, not CEN.
-        // A packet is at least A, N: a load clears last_q; the next byte is
-        // d(N-1) when pos_q reaches N.
-        valid_q <= !rst && (load || (valid_q && !(hs && last_q)));
-        last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
         swapped_q <= swap;
-        // (one expression too) a flush without a swap: finished, credited to nobody
-        credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
         if (swap) begin
             // The address is on offer already; the rest becomes `2, 0x80, 4`,
             // which the reply slot holds from the next clock.

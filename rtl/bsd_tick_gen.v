@@ -62,10 +62,12 @@ module bsd_tick_gen #(
             wire          wrap = lfsr_q == WRAP;
 
             always @(posedge clk) begin
-                lfsr_q <= {lfsr_q[LW-2:0], 1'b0} ^ ({LW{lfsr_q[LW-1]}} & LFSR_P[LW-1:0]);
+                // (tick_q first, and one write of lfsr_q: each flop is read
+                // before it is written, so a simulator keeps no copy of it)
                 tick_q <= wrap;
                 // (back to 1 on the strobe's clock and in reset: one synchronous set/reset)
                 if (rst || wrap) lfsr_q <= ONE;
+                else lfsr_q <= {lfsr_q[LW-2:0], 1'b0} ^ ({LW{lfsr_q[LW-1]}} & LFSR_P[LW-1:0]);
                 if (rst) tick_q <= 1'b0;
             end
 
@@ -90,8 +92,8 @@ module bsd_tick_gen #(
             wire         wrap = acc_q >= TOP_W;
 
             always @(posedge clk) begin
+                tick_q <= wrap;  // (before acc_q's write: read first, no copy kept)
                 acc_q  <= acc_q + (wrap ? INC_W - MOD_W : INC_W);
-                tick_q <= wrap;
                 if (rst) begin
                     acc_q  <= {W{1'b0}};
                     tick_q <= 1'b0;

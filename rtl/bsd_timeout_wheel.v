@@ -157,17 +157,18 @@ module bsd_timeout_wheel #(
         st_q     <= start_any_i;
         st_idx_q <= start_idx_i;
         if (advance) begin
-            scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
-            scan2_q  <= scan_q;
+            // (from the pipeline's end back: each flop is read before it is written)
             scan3_q  <= scan2_q;
+            scan2_q  <= scan_q;
+            scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
             slot3_q  <= st_rd_q[5:0];
             win3_q   <= in_win;
         end
         // The start read now may be a previous run's when a new one is
         // written now (st_q) or next clock (start_any_i), or (stage 3) on the
         // clock after. A stall keeps the candidates: they stay stale if they were.
-        stale_q  <= st_q || start_any_i || (!advance && stale_q);
         stale3_q <= advance ? (stale_q || start_any_i) : (stale3_q || start_any_i);
+        stale_q  <= st_q || start_any_i || (!advance && stale_q);
         // The insert's decoder only on an insert's clock (ins_bit is zero on the others), so
         // that a simulator works it out only then.
         ins_q    <= ((insert ? ins_q | ins_bit : ins_q) & ~start_i);
