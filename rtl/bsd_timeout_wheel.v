@@ -68,8 +68,11 @@ module bsd_timeout_wheel #(
     wire        advance;      // the scanner moves on (it stalls while its insert waits)
     // The timeout is at T = T_start - 1: 3..62 ticks away when T_start - T is 4..63.
     wire [15:0] ahead    = st_rd_q - t_i;
-    wire        in_win   = ahead[15:6] == 10'd0 && ahead[5:2] != 4'd0;
-    wire        unused_ahead = ^ahead[1:0];
+    // ahead[15:6] not zero (ahead at least 64) as the carry out of adding
+    // 65 472: the carry chain ORs the 10 bits, not a tree of gates.
+    wire [16:0] hi_nz    = {1'b0, ahead} + 17'h0FFC0;
+    wire        in_win   = !hi_nz[16] && ahead[5:2] != 4'd0;
+    wire        unused_ahead = ^{ahead[1:0], hi_nz[15:0]};
     // Stage 3: the window test registered (the 16-bit subtraction stays off
     // the write port); the timer's state is tested now.
     reg  [5:0]  scan3_q;
