@@ -36,6 +36,11 @@ module bsd_timeout_wheel #(
 );
     localparam [NUM_TIMERS-1:0] NONE  = {NUM_TIMERS{1'b0}};
     localparam [5:0]          LAST  = NUM_TIMERS[5:0] - 6'd1;  // 64 timers: 63
+    // The scanner's count is masked to a timer number's bits (GP 1.0's 4
+    // timers: 2): its bits above are then constant 0, and synthesis keeps no
+    // flops or gates for them (the count wraps at LAST before it needs them).
+    localparam integer        SW    = NUM_TIMERS > 1 ? $clog2(NUM_TIMERS) : 1;
+    localparam [5:0]          SCAN_MASK = 6'h3F >> (6 - SW);
 
     // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
     function [63:0] pad(input [NUM_TIMERS-1:0] v);
@@ -63,8 +68,11 @@ module bsd_timeout_wheel #(
     wire        advance;      // the scanner moves on (it stalls while its insert waits)
     // The timeout is at T = T_start - 1: 3..62 ticks away when T_start - T is 4..63.
     wire [15:0] ahead    = st_rd_q - t_i;
-    wire        in_win   = ahead[15:6] == 10'd0 && ahead[5:2] != 4'd0;
-    wire        unused_ahead = ^ahead[1:0];
+    // ahead[15:6] not zero (ahead at least 64) as the carry out of adding
+    // 65 472: the carry chain ORs the 10 bits, not a tree of gates.
+    wire [16:0] hi_nz    = {1'b0, ahead} + 17'h0FFC0;
+    wire        in_win   = !hi_nz[16] && ahead[5:2] != 4'd0;
+    wire        unused_ahead = ^{ahead[1:0], hi_nz[15:0]};
     // Stage 3: the window test registered (the 16-bit subtraction stays off
     // the write port); the timer's state is tested now.
     reg  [5:0]  scan3_q;
@@ -107,7 +115,8 @@ module bsd_timeout_wheel #(
     wire                w_bit  = !clear;
     // The wheel as one RAM per 16 timers (a block RAM's width): an insert
     // writes only its timer's RAM (its write enable) through a bit mask that
-    // every RAM shares (16 gates, not one per timer: w_word's m). A write
+    // is the insert's one-hot (ins_bit, which ins_q takes as well), every bit
+    // for a clear: no second decoder of scan3_q for the mask. A write
     // clock of any RAM (w_any) is tested once, before each RAM's select, so a
     // simulator tests only that on the other clocks.
     wire                w_any  = clear || cand;
@@ -129,9 +138,9 @@ module bsd_timeout_wheel #(
             // a simulator builds the word only on a clearing or inserting clock.
             function [GW-1:0] w_word(input [GW-1:0] old);
                 integer b;
-                reg [15:0] w_mask;
+                reg [GW-1:0] w_mask;
                 begin
-                    w_mask = clear ? 16'hFFFF : 16'd1 << scan3_q[3:0];
+                    w_mask = {GW{clear}} | ins_bit[16 * g +: GW];
                     w_word = old;
                     for (b = 0; b < GW; b = b + 1)
                         if (w_mask[b]) w_word[b] = w_bit;
@@ -160,7 +169,7 @@ module bsd_timeout_wheel #(
             // (from the pipeline's end back: each flop is read before it is written)
             scan3_q  <= scan2_q;
             scan2_q  <= scan_q;
-            scan_q   <= scan_q == LAST ? 6'd0 : scan_q + 6'd1;
+            scan_q   <= scan_q == LAST ? 6'd0 : (scan_q + 6'd1) & SCAN_MASK;
             slot3_q  <= st_rd_q[5:0];
             win3_q   <= in_win;
         end
