@@ -8,6 +8,9 @@
     reg f_arm_q = 1'b0, f_fire_q = 1'b0, f_rst_q = 1'b0;
     reg f_fired;   // a fire since the last arm
     reg f_ref;
+    // The fire the RTL works out in sample_step: a watched, armed pin's sample that changes
+    // from the previous one to the TRG level.
+    wire [WIDTH-1:0] fire = armed_q & watch_i & {WIDTH{sample_i}} & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;

@@ -28,23 +28,41 @@ module bsd_trans_latch #(
 
     integer i;
 
-    // A sample that changes from the previous one to the TRG level.
-    wire [WIDTH-1:0] hit = {WIDTH{sample_i}} & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
-    wire [WIDTH-1:0] watched = armed_q & watch_i;
-    wire [WIDTH-1:0] fire    = watched & hit;
-    wire [WIDTH-1:0] load    = arm_i | (watched & {WIDTH{sample_i}});
-
     assign fire_o = fire_q;
 
+    // A sample's clock, as a function called only under sample_i: the edge
+    // test (a sample that changes from the previous one to the TRG level),
+    // the fires, and the previous levels' loads, {fire, armed, prev}'s next
+    // values. A simulator works them out only on a sample's clock (POLL_HZ),
+    // where wires would be worked out on every clock; on the others only an
+    // arm changes anything. Synthesis sees the same logic functions.
+    function [3*WIDTH-1:0] sample_step(input [WIDTH-1:0] arm);
+        reg [WIDTH-1:0] watched, fire, load, prev;
+        integer b;
+        begin
+            watched = armed_q & watch_i;
+            fire    = watched & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
+            load    = arm | watched;
+            // (a mux a bit, with the flop as an input: synthesis sees the enable)
+            for (b = 0; b < WIDTH; b = b + 1)
+                prev[b] = load[b] ? level_i[b] : prev_q[b];
+            sample_step = {fire & ~arm, arm | (armed_q & ~fire), prev};
+        end
+    endfunction
+
     always @(posedge clk) begin
-        fire_q  <= fire & ~arm_i;
-        armed_q <= arm_i | (armed_q & ~fire);
-        // An enable a bit (a flop with an enable, the level its data; the
-        // synthesized vector form gives each bit a mux), the loop run only on
-        // a clock with a load (a sample or an arm), where a simulator pays it.
-        if (|load) begin
-            for (i = 0; i < WIDTH; i = i + 1)
-                if (load[i]) prev_q[i] <= level_i[i];
+        if (!sample_i) begin
+            // An enable a bit (a flop with an enable, the level its data; the
+            // synthesized vector form gives each bit a mux), the loop run only
+            // on an arm's clock, where a simulator pays it.
+            if (|arm_i) begin
+                for (i = 0; i < WIDTH; i = i + 1)
+                    if (arm_i[i]) prev_q[i] <= level_i[i];
+            end
+            fire_q  <= {WIDTH{1'b0}};
+            armed_q <= arm_i | armed_q;
+        end else begin
+            {fire_q, armed_q, prev_q} <= sample_step(arm_i);
         end
         if (rst) begin
             armed_q <= {WIDTH{1'b0}};
