@@ -27,8 +27,7 @@ def test_pointer_order_visits_every_address() -> None:
     where a wrong tap would make a queue fill early and overwrite words."""
     text = (Path(__file__).resolve().parents[2] / "rtl" / "bsd_fifo.v").read_text()
     table = re.search(r"function \[15:0\] taps.*?endfunction", text, re.S).group(0)
-    taps = {int(w): int(t, 16) for ws, t in re.findall(r"^\s*([\d, ]+):\s*taps = 16'h([0-9A-Fa-f]+);", table, re.M)
-            for w in ws.split(",")}
+    taps = {int(w): int(t, 16) for w, t in re.findall(r"^\s*(\d+):\s*taps = 16'h([0-9A-Fa-f]+);", table, re.M)}
     default = re.search(r"default:\s*taps = 16'h([0-9A-Fa-f]+);", table)
     for w in range(1, 17):
         taps.setdefault(w, int(default.group(1), 16))

@@ -167,9 +167,10 @@ def powered_up(v: Virtual) -> tuple[Host, int]:
     # opened, may come first. The transcript says how many reached the host: every one from
     # the open up to this reset's, less those marked lost. Each is read whole, so none of them
     # can be taken later for a reply (the pty hands bytes on a moment after the write).
-    this = v.out.wait(r"< 2:power reset +\(02:80,04\)", v.out.wait(r"\] reset\s*$", mark))
+    power_up = r"< 2:power reset +\(02:80,04\)"
+    this = v.out.wait(power_up, v.out.wait(r"\] reset\s*$", mark))
     assert "[lost" not in v.out.lines[this], v.out.lines[this]
-    sent = [line for line in v.out.lines[mark:this + 1] if "< 2:power reset" in line and "[lost" not in line]
+    sent = [line for line in v.out.lines[mark:this + 1] if re.search(power_up, line) and "[lost" not in line]
     for _ in sent:
         assert host.packet() == bytes([A, 2, 0x80, 4]), "a packet other than power-up"
     return host, mark
