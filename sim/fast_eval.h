@@ -42,7 +42,7 @@
     namespace bsdsim {                                                               \
     inline void posedge(TOP& top, bool inputs_changed) {                             \
         TOP##___024root& r = *top.rootp;                                             \
-        top.clk = 1;                                                                 \
+        r.clk = 1; /* on the root, where the port lives (top.clk is a reference) */  \
         if (inputs_changed) {                                                        \
             r.__VicoTriggered[0] = 1; /* the first-iteration trigger */              \
             TOP##___024root___eval_ico(&r);                                          \
