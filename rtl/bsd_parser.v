@@ -49,15 +49,20 @@ module bsd_parser #(
     localparam [LW-1:0]   IDLE_END = IDLE_POW[LW-1:0];
 
     // ------------------------------------------------------------ registers
-    // The state, one flag each (none set: waiting for an address).
-    reg           len_q;    // the next byte is N
-    reg           data_q;   // the next byte is a data byte
-    reg           pend_q;   // a packet ended by its length byte waits to be handed over
+    // The state, one flag each (none set: waiting for an address), as the bits
+    // of one register loaded whole from next_state(): a simulator stores one
+    // field of the function's value, not a field cut out for each flag, and
+    // keeps one copy of the register (it is read after that write), not one
+    // of each flag. (The wires are the flags' names.)
+    reg  [3:0]    state_q;
+    wire          len_q       = state_q[3];  // the next byte is N
+    wire          data_q      = state_q[2];  // the next byte is a data byte
+    wire          pend_q      = state_q[1];  // a packet ended by its length byte waits to be handed over
+    wire          stop_q      = state_q[0];  // the next byte waits while hold_i (below)
     reg           own_q;
     reg           probe_q;
     reg  [2:0]    rem_q;    // data bytes after the next one
     reg           last_q;   // the next data byte is the packet's last
-    reg           stop_q;   // the next byte waits while hold_i (below)
     reg  [7:0]    pos_q;    // one-hot: the slot of the next data byte
     reg  [LW-1:0] idle_q;   // x^(idle ticks) mod the polynomial (above)
     // The packet handed to the executor.
@@ -165,7 +170,7 @@ module bsd_parser #(
     // next state first: it reads every flop but the slots, and only the state
     // flags it writes are read after it.)
     always @(posedge clk) begin
-        {len_q, data_q, pend_q, stop_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
+        {state_q, pkt_valid_q} <= next_state(s_axis_tvalid, s_axis_tdata);
         // N and the data bytes take the offered byte whether or not it is
         // accepted (no tvalid or tready in these enables): the slot of the next
         // data byte follows the offered byte until it is taken, so it ends
@@ -207,19 +212,19 @@ module bsd_parser #(
         // is offered; the TIMEOUT_TICKS-th drops the packet.
         // (The step first, then the restart, which excludes it: idle_q is read before
         // it is written.)
-        if (!s_axis_tvalid && tick_i && !(hold_i && stop_q) && (len_q || data_q))
-            idle_q <= {idle_q[LW-2:0], 1'b0} ^ ({LW{idle_q[LW-1]}} & LFSR_P[LW-1:0]);
+        // (nested under the tick, the rarest term: a simulator tests one bit on most clocks)
+        if (tick_i) begin
+            if (!s_axis_tvalid && !(hold_i && stop_q) && (len_q || data_q))
+                idle_q <= {idle_q[LW-2:0], 1'b0} ^ ({LW{idle_q[LW-1]}} & LFSR_P[LW-1:0]);
+        end
         if (take(s_axis_tvalid)) idle_q <= {{(LW-1){1'b0}}, 1'b1};
         if (rst) begin
-            len_q       <= 1'b0;
-            data_q      <= 1'b0;
-            pend_q      <= 1'b0;
+            state_q     <= 4'd0;
+            pkt_valid_q <= 1'b0;
             own_q       <= 1'b0;
             probe_q     <= 1'b0;
-            stop_q      <= 1'b0;
             pos_q       <= 8'hFF;  // every slot follows the stream until the first N
             idle_q      <= {{(LW-1){1'b0}}, 1'b1};
-            pkt_valid_q <= 1'b0;
             pkt_kind_q  <= KIND_CMD;
         end
     end
