@@ -207,38 +207,41 @@ class Session {
     // The model's ports are read and written on its root (r_), where they live: the top's
     // members are references to them, one load more each.
     [[gnu::always_inline]] inline void clock() {
+        // (a local reference: the byte stores below may alias *this, after each of which a
+        // member reference would be loaded again)
+        Vbrainstem_dio___024root& r = r_;
         const bool tx_valid = !txq_.empty();
-        r_.s_axis_tvalid = tx_valid;
-        r_.s_axis_tdata = tx_valid ? txq_.front() : 0;
+        r.s_axis_tvalid = tx_valid;
+        r.s_axis_tdata = tx_valid ? txq_.front() : 0;
         const bool dump = trace_ && (VM_TRACE_FST || cycle_ - last_event_ < window_);
         if (dump) {  // the waveform's falling edge; the model has no logic on it
-            r_.clk = 0;
+            r.clk = 0;
             settle(*top_);
             trace_->dump(2 * cycle_);
         }
         // Handshakes and strobes are sampled before the rising edge: the outputs of the last
         // one (sim/fast_eval.h).
-        const bool s_hs = tx_valid && r_.s_axis_tready;
-        if (r_.m_axis_tvalid && r_.m_axis_tready) {
+        const bool s_hs = tx_valid && r.s_axis_tready;
+        if (r.m_axis_tvalid && r.m_axis_tready) {
             last_event_ = cycle_;
-            cur_.push_back(r_.m_axis_tdata);
-            if (r_.m_axis_tlast) received();
+            cur_.push_back(r.m_axis_tdata);
+            if (r.m_axis_tlast) received();
         }
         if (watch_) {  // the transcript's strobes, and the VCD's window
-            if (s_hs || r_.raw_trans || r_.rflx_valid || r_.rst) last_event_ = cycle_;
-            if (r_.raw_trans && !quiet_) raw_inputs(r_.raw_trans);
-            if (r_.rflx_valid && !quiet_) {
-                const Line l = rflx(r_.rflx_id, r_.rflx_data);
+            if (s_hs || r.raw_trans || r.rflx_valid || r.rst) last_event_ = cycle_;
+            if (r.raw_trans && !quiet_) raw_inputs(r.raw_trans);
+            if (r.rflx_valid && !quiet_) {
+                const Line l = rflx(r.rflx_id, r.rflx_data);
                 log(l.what, l.meaning);
             }
         }
         if (dump) {  // through the public eval(): it marks the activity the waveform records
-            r_.clk = 1;
+            r.clk = 1;
             top_->eval();
             sync_inputs();
             trace_->dump(2 * cycle_ + 1);
         } else {
-            posedge(*top_, inputs_.changed(r_.rst, r_.m_axis_tready, r_.pin_i));
+            posedge(r, inputs_.changed(r.rst, r.m_axis_tready, r.pin_i));
         }
         ++cycle_;
         if (s_hs) txq_.pop_front();

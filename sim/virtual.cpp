@@ -335,7 +335,7 @@ class Board {
             sync_inputs();
             trace_->dump(2 * cycle_ + 1);
         } else {
-            posedge(*top_, inputs_.changed(r_.rst, r_.rx, r_.pin_i));
+            posedge(r_, inputs_.changed(r_.rst, r_.rx, r_.pin_i));
         }
         ++cycle_;
     }
