@@ -39,7 +39,7 @@ MUTANTS = [
      "ins_q    <= ((insert ? ins_q | ins_bit : ins_q) & ~start_i);",
      "ins_q    <= ((clear ? ins_q | ins_bit : ins_q) & ~start_i);", "UNKNOWN"),
     ("bsd_drain", "prove", "bsd_drain.v", "the DIG_IO value always goes first, even above a lower timer ID",
-     "dio_first = dio_q && !(|(r & ranks_of(dio_id_q)));", "dio_first = dio_q;"),
+     "rank_t    = |(r & ranks_of(dio_id_q));", "rank_t    = 1'b0;"),
     ("bsd_drain", "prove", "bsd_drain.v", "the empty flag ignores whether the new entry has items",
      "empty_q   <= !(ev_valid_i && ev_items);", "empty_q   <= !ev_valid_i;"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",

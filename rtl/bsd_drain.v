@@ -188,14 +188,21 @@ module bsd_drain #(
     // this clock's: the entry has two or more; "two timers or more" is "a
     // timer beside the lowest" (the bits the pick leaves), which ends at
     // flops only (empty_q, any_t_q), so the pick's carry chain may feed it.
+    // "Take a timer" (any_t && !dio_first) is written as an OR, (a timer and
+    // no DIG_IO value) or (a timer ranking before the value is left), which
+    // is the same because such a timer is a timer (any_t_q == |rem_q): it
+    // enables rem_q, and an OR of the rank terms is shallower than the
+    // AND-NOT through dio_first (the iCEBreaker top's critical path ran
+    // dio_id_q -> rank OR -> dio_first -> take_t -> rem_q's enable).
     function [NT+14:0] step(input [NT-1:0] r);
         reg [NT-1:0] low;
-        reg dio_first, two_t, take_t, more;
+        reg rank_t, dio_first, two_t, take_t, more;
         begin
             low       = lowest(r);
-            dio_first = dio_q && !(|(r & ranks_of(dio_id_q)));
+            rank_t    = |(r & ranks_of(dio_id_q));
+            dio_first = dio_q && !rank_t;
             two_t     = |(r & ~low);
-            take_t    = any_t && !dio_first;
+            take_t    = (any_t && !dio_q) || rank_t;
             more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
                         (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
             step = {take_t ? r & ~low : r, take_t ? two_t : any_t,
