@@ -19,9 +19,7 @@
 // timer's reference RAM; a finish reads the reference. B: a finish's result
 // is T - reference (1 if that is 0; 0 for a timeout); it is queued for the
 // transmitter when HOST is set (order_*) and strobed on rflx_* when RFLX is
-// set; the reply and heartbeat are queued, the DIG_IO value strobed, both
-// from flops loaded at the end of stage B (the strobe and the queue's item
-// on the same clock). Never
+// set; the reply and heartbeat are queued, the DIG_IO value strobed. Never
 // waits for the host link: the output queue has room for every packet that
 // can be waiting (one per timer, the reply, the heartbeat), so RFLX strobes
 // are never held back by it.
@@ -292,15 +290,11 @@ module bsd_drain #(
 
     // Stage B's valid flags are decided in stage A and registered (b_ord_q,
     // b_rdone_q), so the transmitter's load and the timers' clears start at
-    // a flop. The queued item is registered once more (stage C, c_ord_q and
-    // c_data_q, beside the RFLX strobe's flops): the result's subtraction and
-    // "0 ticks" test then end at flops, not at the output queue's RAM write
-    // port behind the top's mux (the iCEBreaker top's critical path).
+    // a flop; the data come straight from stage B (the output queue, or the
+    // transmitter when that is empty, registers it).
     reg        b_ord_q, b_rdone_q, b_free_q;
-    reg        c_ord_q;
-    reg [29:0] c_data_q;
-    assign order_valid_o = c_ord_q;
-    assign order_data_o  = c_data_q;
+    assign order_valid_o = b_ord_q;
+    assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
     assign rflx_done_o   = b_free_q;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
@@ -361,10 +355,6 @@ module bsd_drain #(
             end
             {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
         end
-        c_ord_q       <= b_ord_q;
-        // (loaded only with an item, so that a simulator copies it only then)
-        if (b_ord_q)
-            c_data_q  <= {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         if (b_rdone_q || b_dio_q) begin
             rflx_id_q     <= b_id_q;
@@ -390,7 +380,6 @@ module bsd_drain #(
             b_ord_q       <= 1'b0;
             b_rdone_q     <= 1'b0;
             b_free_q      <= 1'b0;
-            c_ord_q       <= 1'b0;
             rflx_valid_q  <= 1'b0;
             rflx_id_q     <= 6'd0;
             rflx_data_q[0] <= 1'b0;
