@@ -87,5 +87,5 @@
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
         cover(take_dio && any_t);                              // the DIG_IO value between timers
         cover(take_hb && f_items == 4'd5);                     // a full entry's last item
-        cover(b_ord_q && !b_rep_q && !b_hb_q && b_tmo_q && rflx_valid_q == 1'b0);
+        cover(b_ord_q && !b_rep_q && !b_hb_q && b_res_q == 16'd0 && rflx_valid_q == 1'b0);  // a timeout's item
     end

@@ -11,7 +11,7 @@
     reg [9:0]  f_frame;   // stop, data, start: bit 0 goes first
     reg        f_busy;
     reg [3:0]  f_bit;     // bit of the frame on the line
-    reg [CW-1:0] f_clk;   // clocks of it so far
+    reg [LW-1:0] f_clk;   // clocks of it so far (LW bits hold DIV - 1)
     wire       f_take = s_axis_tvalid && s_axis_tready;
 
     always @(posedge clk) begin
@@ -19,8 +19,8 @@
         f_rst_q <= rst;
         f_sv_q <= s_axis_tvalid; f_sr_q <= s_axis_tready; f_sd_q <= s_axis_tdata;
         if (f_busy) begin
-            if (f_clk == DIV[CW-1:0] - 1'b1) begin
-                f_clk <= {CW{1'b0}};
+            if (f_clk == DIV[LW-1:0] - 1'b1) begin
+                f_clk <= {LW{1'b0}};
                 f_bit <= f_bit + 4'd1;
                 if (f_bit == 4'd9) f_busy <= 1'b0;
             end else begin
@@ -31,7 +31,7 @@
             f_frame <= {1'b1, s_axis_tdata, 1'b0};
             f_busy  <= 1'b1;
             f_bit   <= 4'd0;
-            f_clk   <= {CW{1'b0}};
+            f_clk   <= {LW{1'b0}};
         end
         if (rst) f_busy <= 1'b0;
     end
@@ -46,13 +46,14 @@
             // The line follows the reference frame; idle high.
             assert(tx_o == (f_busy ? f_frame[f_bit] : 1'b1));
             // Ready exactly when idle or on the stop bit's last clock.
-            assert(s_axis_tready == (!f_busy || (f_bit == 4'd9 && f_clk == DIV[CW-1:0] - 1'b1)));
+            assert(s_axis_tready == (!f_busy || (f_bit == 4'd9 && f_clk == DIV[LW-1:0] - 1'b1)));
             // Induction: the design's counters agree with the reference.
             assert(busy == f_busy);
             if (f_busy) begin
                 assert(f_bit <= 4'd9 && f_clk < DIV);
                 assert(left_q == 4'd10 - f_bit);
-                assert(cnt_q == BIT_RELOAD - f_clk);
+                assert({{(32-LW){1'b0}}, cnt_q} == lfsr_pow({{(32-LW){1'b0}}, f_clk}, LW, LFSR_P));
+                assert(end_q == (f_clk == DIV[LW-1:0] - 1'b1));
                 assert(shift_q == (({9'h1FF, f_frame} >> (f_bit + 4'd1)) & 9'h1FF));
             end
         end

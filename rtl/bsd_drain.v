@@ -16,8 +16,9 @@
 // A timer's bits in an entry: r alone is a reference, f alone a completion,
 // both a timeout (bsd_timer_bank), so no timer keeps a timed-out flag.
 // Items go through two registered stages. A: a reference writes T into the
-// timer's reference RAM; a finish reads the reference. B: a finish's result
-// is T - reference (1 if that is 0; 0 for a timeout); it is queued for the
+// timer's reference RAM; a finish's result, T - reference (1 if that is 0;
+// 0 for a timeout), is worked out from the reference the RAM read on the
+// pick's clock. B: the result (a flop) is queued for the
 // transmitter when HOST is set (order_*) and strobed on rflx_* when RFLX is
 // set; the reply and heartbeat are queued, the DIG_IO value strobed. Never
 // waits for the host link: the output queue has room for every packet that
@@ -188,10 +189,11 @@ module bsd_drain #(
     // flops only (empty_q, any_t_q), so the pick's carry chain may feed it.
     function [NT+14:0] step(input [NT-1:0] r);
         reg [NT-1:0] low;
-        reg dio_first, two_t, take_t, more;
+        reg rank_t, dio_first, two_t, take_t, more;
         begin
             low       = lowest(r);
-            dio_first = dio_q && !(|(r & ranks_of(dio_id_q)));
+            rank_t    = |(r & ranks_of(dio_id_q));
+            dio_first = dio_q && !rank_t;
             two_t     = |(r & ~low);
             take_t    = any_t && !dio_first;
             more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
@@ -253,29 +255,41 @@ module bsd_drain #(
             at = w[a_k_q];
         end
     endfunction
-    reg        b_tmo_q;
     reg [5:0]  b_k_q;
-    reg [15:0] b_t16_q;
+    reg [15:0] b_res_q;  // the finish's result
 
+    // The reference is read on the pick's clock, at the lowest waiting
+    // timer's number (the one a timer item takes; a clock that takes another
+    // item reads to no use), so that stage A has it and works the result out
+    // into a flop: the subtraction and the "0 ticks" test then end at b_res_q,
+    // not at the output queue's RAM write port behind the top's mux (the
+    // iCEBreaker top's critical path), with no clock added. A reference is
+    // written in stage A and a finish of the same timer is picked from a later
+    // entry, two clocks after at the earliest (one idle clock between
+    // entries): it reads the reference written.
     (* no_rw_check *)  // a reference is read at the earliest a clock after it is written
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
+    reg [NT+14:0] step_v;  // the pick's step, read only on its clock (below)
     always @(posedge clk) begin
         if (a_t_q) begin
             if (at(r_q) && !at(f_q)) ref_mem[a_k_q] <= t_q;
-            ref_rd_q <= ref_mem[a_k_q];
         end
     end
 
     // T - reference as T + ~reference + 1: iCE40's carry chain takes its
-    // operands uninverted, so ~reference is a LUT per bit anyway, and that
-    // LUT also makes a timeout's result 0 (T + ~T + 1), with no gate after
-    // the sum. "0 ticks" (sent as 1) is tested on the operands, beside the
-    // carry chain, not after it: bits 15:1 equal and the sum's bit 0 (its
-    // first, early off the chain) 0.
-    wire [15:0] ref_n  = b_tmo_q ? ~b_t16_q : ~ref_rd_q;
-    wire [15:0] diff   = b_t16_q + ref_n + 16'd1;
-    wire [15:0] result = {diff[15:1], !b_tmo_q && (diff[0] || b_t16_q[15:1] == ref_rd_q[15:1])};
+    // operands uninverted, so ~reference is a LUT per bit anyway. "0 ticks"
+    // (sent as 1) is tested on the operands, beside the carry chain, not
+    // after it: bits 15:1 equal and the sum's bit 0 (its first, early off the
+    // chain) 0. A timeout's 0 is b_res_q's synchronous reset (no gate a bit).
+    // Called only in stage A with a timer (a_t_q), so a simulator works it out only then.
+    function [15:0] elapsed(input [15:0] t, input [15:0] rv);
+        reg [15:0] diff;
+        begin
+            diff    = t + ~rv + 16'd1;
+            elapsed = {diff[15:1], diff[0] || t[15:1] == rv[15:1]};
+        end
+    endfunction
 
     reg        rflx_valid_q;
     reg [5:0]  rflx_id_q;
@@ -283,11 +297,11 @@ module bsd_drain #(
 
     // Stage B's valid flags are decided in stage A and registered (b_ord_q,
     // b_rdone_q), so the transmitter's load and the timers' clears start at
-    // a flop; the data come straight from stage B (the output queue, or the
-    // transmitter when that is empty, registers it).
+    // a flop; the data come straight from stage B's flops (the output queue,
+    // or the transmitter when that is empty, registers them).
     reg        b_ord_q, b_rdone_q, b_free_q;
     assign order_valid_o = b_ord_q;
-    assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, result};
+    assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, b_res_q};
     assign rflx_done_o   = b_free_q;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
@@ -308,10 +322,10 @@ module bsd_drain #(
             b_ord_q   <= at(f_q) && at(run_host_i);
             b_rdone_q <= at(f_q) && at(run_rflx_i);
             b_free_q  <= at(f_q) && at(run_rflx_i) && !at(run_host_i);
-            b_tmo_q   <= at(r_q);  // with a f bit: a timeout
+            b_res_q   <= elapsed(t_q, ref_rd_q);
+            if (at(r_q)) b_res_q <= 16'd0;  // with a f bit: a timeout
             b_k_q     <= a_k_q;
             b_id_q    <= a_id;
-            b_t16_q   <= t_q;
         end else begin
             b_ord_q   <= a_rep_q || a_hb_q;
             b_rdone_q <= 1'b0;
@@ -326,8 +340,16 @@ module bsd_drain #(
         b_hb_q   <= a_hb_q;
         // (the step before the load, which excludes it: the step reads the entry's
         // flops before the load writes them, and a simulator keeps no copy of them)
-        if (!next)
-            {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step(rem_q);
+        // The reference is read at the step's own index (step_v, a value of
+        // this clock only, not a flop), so that the RAM's address and a_k_q
+        // share one encoder.
+        if (!next) begin
+            /* verilator lint_off BLKSEQ */
+            step_v = step(rem_q);
+            /* verilator lint_on BLKSEQ */
+            {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step_v;
+            ref_rd_q <= ref_mem[step_v[5:0]];
+        end
         if (next) begin
             // The entry: loaded as the last one's last item goes, then one item a clock.
             rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
@@ -351,7 +373,7 @@ module bsd_drain #(
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         if (b_rdone_q || b_dio_q) begin
             rflx_id_q     <= b_id_q;
-            rflx_data_q   <= {result[15:1], b_dio_q ? b_dio_val_q : result[0]};
+            rflx_data_q   <= {b_res_q[15:1], b_dio_q ? b_dio_val_q : b_res_q[0]};
         end
         // A DIG_IO value's bits 15:1 are 0: the flops' synchronous reset (with
         // rst's), not a gate per bit.

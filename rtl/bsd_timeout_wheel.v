@@ -108,9 +108,14 @@ module bsd_timeout_wheel #(
     // that loses waits a clock (the scanner stalls): a lap that is a multiple
     // of the tick pattern's period (64 timers at 2 MHz: 16 clocks) would
     // otherwise meet the clearing clock at the same timers on every lap.
+    // The stall is decided from flops alone (a clearing clock and a fresh
+    // in-window read in stage 3), not from the candidate's lookup of the
+    // timer's state: the scanner's enables (the start RAM's read among them)
+    // then do not wait for that mux. It may stall for a timer that is no
+    // candidate (not running, or inserted): still one stall a tick at most.
     wire                clear  = tick2_q;
     wire                insert = cand && !clear;
-    assign              advance = !(cand && clear);
+    assign              advance = !(clear && win3_q && !stale3_q);
     wire [5:0]          w_addr = clear ? slot_q : slot3_q;
     wire                w_bit  = !clear;
     // The wheel as one RAM per 16 timers (a block RAM's width): an insert
