@@ -40,7 +40,7 @@
     void TOP##___024root___eval_ico(TOP##___024root* vlSelf);                        \
     void TOP##___024root___eval_nba(TOP##___024root* vlSelf);                        \
     namespace bsdsim {                                                               \
-    inline void posedge(TOP##___024root& r, bool inputs_changed) {                \
+    inline void posedge(TOP##___024root& r, bool inputs_changed) {                   \
         r.clk = 1; /* on the root, where the port lives (top.clk is a reference) */  \
         if (inputs_changed) {                                                        \
             r.__VicoTriggered[0] = 1; /* the first-iteration trigger */              \
@@ -51,7 +51,6 @@
         r.__VnbaTriggered[0] = 0;                                                    \
         r.__Vtrigprevexpr___TOP__clk__0 = 1; /* as eval() leaves it */              \
     }                                                                                \
-    inline void posedge(TOP& top, bool inputs_changed) { posedge(*top.rootp, inputs_changed); } \
     inline void settle(TOP& top) { top.eval(); }                                     \
     }
 
