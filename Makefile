@@ -135,14 +135,17 @@ bench: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 BAUD    ?= 9600
 HB_RATE ?= 10
 $(foreach p,$(filter-out CLK_HZ,$(SIM_PARAMS)),$(eval VIRTUAL_$(p) = $$($(p))))
+# Tracing is compiled in only for WAVES=1 (its own build folder): a traced model keeps every
+# signal a waveform could show, about 110 instructions a clock more of the ~1,500 at 12 MHz
+# (docs/benchmarks.md), which is what stood between that build and real time.
 VIRTUAL_ROOT := sim/build/virtual
-VIRTUAL_DIR  := $(VIRTUAL_ROOT)/clk$(VIRTUAL_CLK_HZ)-baud$(BAUD)-hb$(HB_RATE)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)
+VIRTUAL_DIR  := $(VIRTUAL_ROOT)/clk$(VIRTUAL_CLK_HZ)-baud$(BAUD)-hb$(HB_RATE)-addr$(MODULE_ADDR)-pins$(NUM_PINS)-timers$(TIMER_MASK)-ids$(PIN_ID_BASE).$(TIMER_ID_BASE).$(TRANS_ID_BASE)$(if $(WAVES),-wave)
 VIRTUAL_BIN  := $(VIRTUAL_DIR)/virtual
 virtual_flags = $(call sim_flags,VIRTUAL_) $(foreach p,BAUD HB_RATE,$(call sim_decimal,$(p),$($(p)))-G$(p)=$($(p))) \
 	-CFLAGS "-DBSD_BAUD=$(BAUD) -DBSD_HB_RATE=$(HB_RATE)"
 
 $(VIRTUAL_BIN): $(SIM_HDRS) sim/virtual.cpp | $(STAMP)
-	$(call verilate,brainstem_dio_uart,$(FAST) $(TRACE) $(virtual_flags),sim/virtual.cpp)
+	$(call verilate,brainstem_dio_uart,$(FAST) $(if $(WAVES),$(TRACE)) $(virtual_flags),sim/virtual.cpp)
 
 virtual-build: $(VIRTUAL_BIN)
 

@@ -5,6 +5,7 @@
 //
 //   virtual [--link PATH] [--wave FILE] [--ber P] [--seed N]
 //                                          run; print "port: /dev/pts/N"; PATH -> the pty
+//                                          (--wave: only in make's WAVES=1 build, traced)
 //   virtual --bench SECONDS                run unpaced for SECONDS of wall time with a busy
 //                                          host, print the ratio of simulated to real time
 //
@@ -169,7 +170,7 @@ class Board {
         }
 #else
         (void)ctx;
-        if (wave) std::fprintf(stderr, "note: built without tracing, no waveform\n");
+        (void)wave;  // main() refuses --wave in a build without tracing
 #endif
         r_.rx = 1;
         r_.pin_i = ext_ & kPinsMask;
@@ -907,7 +908,8 @@ const char* kUsage =
     "       virtual --bench SECONDS\n"
     "  Runs brainstem_dio_uart behind a pseudo-terminal and prints 'port: /dev/pts/N'.\n"
     "  --link PATH      keep a symlink PATH -> the pty while running\n"
-    "  --wave FILE      record a waveform (paused while the lines and pads are idle)\n"
+    "  --wave FILE      record a waveform (paused while the lines and pads are idle);\n"
+    "                   only in the build with tracing (make virtual WAVES=1)\n"
     "  --ber P          line noise: flip each bit on both serial lines with probability P (0..1)\n"
     "  --seed N         the noise generators' seed (0..2^64-1; default: a random one, printed)\n"
     "  --bench SECONDS  no pty: run unpaced for SECONDS of wall time with a busy host,\n"
@@ -965,6 +967,14 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+#if !VM_TRACE
+    // Tracing costs every clock, so only make's WAVES=1 build has it (the Makefile).
+    if (!wave.empty()) {
+        std::fprintf(stderr, "error: --wave needs the build with tracing: make virtual WAVES=1 (or virtual-build WAVES=1)\n%s",
+                     kUsage);
+        return 2;
+    }
+#endif
     // Fully buffered: run() flushes a chunk's transcript after writing its bytes to the pty.
     std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
     auto ctx = std::make_unique<VerilatedContext>();

@@ -328,22 +328,41 @@ def test_pin_lines_drive_the_pads(shared: Virtual) -> None:
         host.close()
 
 
-def test_waves_record_the_session(fresh, tmp_path: Path) -> None:
+@pytest.fixture(scope="session")
+def virtual_wave_bin() -> Path:
+    """The build with tracing (`make virtual WAVES=1`): the others leave it out for speed."""
+    return make_built("virtual-build", "virtual-path", [*MAKE_VARS, "WAVES=1"])
+
+
+def test_waves_record_the_session(virtual_wave_bin: Path, tmp_path: Path) -> None:
     wave = tmp_path / "session.vcd"
-    v = fresh("--wave", str(wave))
-    host, _ = powered_up(v)
+    v = Virtual(virtual_wave_bin, tmp_path / "port", "--wave", str(wave))
     try:
-        assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+        host, _ = powered_up(v)
+        try:
+            assert host.reply(A, 2, 0x1A, 3) == bytes([A, 3, 0x1A, 3, 1])
+        finally:
+            host.close()
+        v.send("quit")
+        assert v.wait_exit() == 0
     finally:
-        host.close()
-    v.send("quit")
-    assert v.wait_exit() == 0
+        v.stop()
     assert f"waveform {wave}" in v.out.lines[-1]
     data = wave.read_bytes()
     if data.startswith(b"$"):  # a VCD (an FST when lz4's header is installed)
         assert b"$enddefinitions" in data and b" tx " in data and b"\n#" in data
     else:
         assert len(data) > 1000
+
+
+def test_wave_needs_the_traced_build(virtual_bin: Path, tmp_path: Path) -> None:
+    # The default build has no tracing (it costs every clock): a waveform asked of it is
+    # refused, not silently left out.
+    run = subprocess.run([str(virtual_bin), "--wave", str(tmp_path / "w.vcd")], cwd=ROOT, capture_output=True,
+                         text=True, stdin=subprocess.DEVNULL, timeout=TIMEOUT)
+    assert run.returncode == 2
+    assert "error: --wave needs the build with tracing: make virtual WAVES=1" in run.stderr, run.stderr
+    assert not (tmp_path / "w.vcd").exists()
 
 
 def test_wait_follows_the_wall_clock(fresh) -> None:
