@@ -421,7 +421,7 @@ def report(res: Result) -> str:
 
 def run_soak(*, seed: int, baseline: int, calls: int, bers: list[float], log: Callable[[str], None]) -> Result:
     """The whole soak; the virtual module's transcript (stdout and stderr) goes to TRANSCRIPT."""
-    binary = make_built("virtual-build", "virtual-path", ["CLK_HZ=2000000", f"BAUD={BAUD}", "HB_RATE=10"])
+    binary = make_built("virtual-build", "virtual-path", ["CLK_HZ=2000000", f"BAUD={BAUD}", "HB_RATE=10", "VIRTUAL_PGO=0"])
     with tempfile.TemporaryDirectory(prefix="bsd-soak-") as tmp:
         v = Virtual(binary, Path(tmp) / "port", seed)
         log(f"soak: seed {seed}; virtual module: {v.seed_line}")

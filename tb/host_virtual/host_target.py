@@ -21,7 +21,7 @@ def virtual_build(make_vars: list[str]) -> Path:
 
 # The build of tb/virtual/test_virtual.py (one build for both): the core's lowest clock and a
 # fast line, so a loaded machine keeps real time; the 256 ms heartbeat.
-MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]
+MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10", "VIRTUAL_PGO=0"]
 
 
 class Virtual:

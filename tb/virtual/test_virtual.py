@@ -31,7 +31,7 @@ from harness import TIMEOUT, Lines, make_built
 pytestmark = pytest.mark.xdist_group("virtual")
 
 ROOT = Path(__file__).resolve().parents[2]
-MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10"]  # and the other GP 1.0 defaults
+MAKE_VARS = ["CLK_HZ=2000000", "BAUD=115200", "HB_RATE=10", "VIRTUAL_PGO=0"]  # and the other GP 1.0 defaults
 A = 2  # module address
 HB = (A, 2, 0)  # a heartbeat packet starts so
 
