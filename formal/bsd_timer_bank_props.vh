@@ -71,7 +71,7 @@
                 end
                 assert(t_q == f_t_q + {15'd0, f_tick_q});
             end
-            assert(ev_any_q == |(ev_r_q | ev_f_q));
+            assert(ev_any_o == |(ev_r_q | ev_f_q));
         end
     end
 

@@ -37,16 +37,22 @@ module bsd_trans_latch #(
     // where wires would be worked out on every clock; on the others only an
     // arm changes anything. Synthesis sees the same logic functions.
     function [3*WIDTH-1:0] sample_step(input [WIDTH-1:0] arm);
-        reg [WIDTH-1:0] watched, fire, load, prev;
+        reg [WIDTH-1:0] watched, hit, fire, load, prev;
         integer b;
         begin
             watched = armed_q & watch_i;
-            fire    = watched & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
+            // The edge test without the armed bit, which armed's next value
+            // takes directly (armed && !fire is armed && !hit): synthesis
+            // then gives each of fire and armed a LUT of its own, which
+            // nextpnr packs with its flop, rather than feeding fire's LUT
+            // into armed's and leaving fire's flop a logic cell alone.
+            hit     = watch_i & ~(level_i ^ trg_i) & (prev_q ^ trg_i);
+            fire    = armed_q & hit;
             load    = arm | watched;
             // (a mux a bit, with the flop as an input: synthesis sees the enable)
             for (b = 0; b < WIDTH; b = b + 1)
                 prev[b] = load[b] ? level_i[b] : prev_q[b];
-            sample_step = {fire & ~arm, arm | (armed_q & ~fire), prev};
+            sample_step = {fire & ~arm, arm | (armed_q & ~hit), prev};
         end
     endfunction
 
