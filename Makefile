@@ -75,10 +75,19 @@ FAST := --x-assign fast --x-initial fast --noassert -fno-const-bit-op-tree \
 # model and the harness as one: the scheduler's calls inline into the harness's clock, about
 # 10 a clock). Not for the virtual module: Callgrind put its 12 MHz build some 5 % dearer.
 BENCH_FAST := $(FAST) -fno-dfg-peephole -CFLAGS -flto=auto -LDFLAGS "-flto=auto -O2"
-# gcc's profile-guided optimisation, for the benchmark's runners: built instrumented, run on the
-# busy scenario, built again with that profile (its .gcda files stay in the build folder).
+# gcc's profile-guided optimisation, for the benchmark's runners and the virtual module:
+# $(call verilate_pgo,top,options,C++ main,inputs,training arguments) builds $@ instrumented, runs
+# it with the training arguments (its busy scenario), and builds it again with that profile (its
+# .gcda files stay in the build folder).
 PGO_GEN := -CFLAGS "-fprofile-generate -fprofile-update=single" -LDFLAGS -fprofile-generate
 PGO_USE := -CFLAGS "-fprofile-use -fprofile-partial-training -Wno-missing-profile"
+define verilate_pgo
+@rm -f $(@D)/*.gcda
+$(call verilate,$(1),$(2) $(PGO_GEN),$(3),$(4))
+@$@ $(5) > /dev/null
+@rm -f $(@D)/*.o $(@D)/*.a $(@D)/*.gch $@
+$(call verilate,$(1),$(2) $(PGO_USE),$(3),$(4))
+endef
 
 all: lint test
 
@@ -118,11 +127,7 @@ BENCH64_TIMER_MASK := 18446744073709551615
 $(BENCH_DIR)/session: BENCH_VARS := BSD_DEFAULT_
 $(BENCH64_DIR)/session: BENCH_VARS := BENCH64_
 $(BENCH_DIR)/session $(BENCH64_DIR)/session: $(SIM_DEPS) | $(STAMP)
-	@rm -f $(@D)/*.gcda
-	$(call verilate,brainstem_dio,$(BENCH_FAST) $(PGO_GEN) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp,$(SESSION_UNWATCHED))
-	@$@ --bench 300000 > /dev/null
-	@rm -f $(@D)/*.o $(@D)/*.a $(@D)/*.gch $@
-	$(call verilate,brainstem_dio,$(BENCH_FAST) $(PGO_USE) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp,$(SESSION_UNWATCHED))
+	$(call verilate_pgo,brainstem_dio,$(BENCH_FAST) $(call sim_flags,$(BENCH_VARS)),sim/session.cpp,$(SESSION_UNWATCHED),--bench 300000)
 
 bench-build: $(BENCH_DIR)/session $(BENCH64_DIR)/session
 
@@ -154,17 +159,11 @@ VIRTUAL_BIN  := $(VIRTUAL_DIR)/virtual
 virtual_flags = $(call sim_flags,VIRTUAL_) $(foreach p,BAUD HB_RATE,$(call sim_decimal,$(p),$($(p)))-G$(p)=$($(p))) \
 	-CFLAGS "-DBSD_BAUD=$(BAUD) -DBSD_HB_RATE=$(HB_RATE)"
 
-virtual_build = $(call verilate,brainstem_dio_uart,$(FAST) $(if $(WAVES),$(TRACE)) $(virtual_flags) $(1),sim/virtual.cpp)
-
 $(VIRTUAL_BIN): $(SIM_HDRS) sim/virtual.cpp | $(STAMP)
 ifeq ($(VIRTUAL_KIND),)
-	@rm -f $(@D)/*.gcda
-	$(call virtual_build,$(PGO_GEN))
-	@$@ --bench 1 > /dev/null
-	@rm -f $(@D)/*.o $(@D)/*.a $(@D)/*.gch $@
-	$(call virtual_build,$(PGO_USE))
+	$(call verilate_pgo,brainstem_dio_uart,$(FAST) $(virtual_flags),sim/virtual.cpp,,--bench 1)
 else
-	$(call virtual_build,)
+	$(call verilate,brainstem_dio_uart,$(FAST) $(if $(WAVES),$(TRACE)) $(virtual_flags),sim/virtual.cpp)
 endif
 
 virtual-build: $(VIRTUAL_BIN)

@@ -109,6 +109,7 @@ constexpr double kBehindS = 0.05;   // a lag worth reporting
 constexpr double kMaxLagS = 0.1;    // a lag beyond this is forgiven
 constexpr double kMaxSleepS = 0.002;
 constexpr uint64_t kPinsMask = kNumPins == 64 ? ~uint64_t{0} : (uint64_t{1} << kNumPins) - 1;
+constexpr uint64_t kBenchPadClocks = 4096;  // the bench host toggles its two pads this often
 
 volatile sig_atomic_t g_signal = 0;
 void on_signal(int sig) { g_signal = sig; }
@@ -356,7 +357,7 @@ class Board {
                 link_up_ ? "the host answers the heartbeat" : "a heartbeat went unanswered");
         }
         if (!noise_.empty() && tx_bit_ < 0 && cur_.empty()) send_noise();
-        if (bench_ && (cycle_ & 4095) == 0) r_.pin_i ^= 0x18 & kPinsMask;
+        if (bench_ && cycle_ % kBenchPadClocks == 0) r_.pin_i ^= 0x18 & kPinsMask;
         if (dump) {  // through the public eval(): it marks the activity the waveform records
             r_.clk = 1;
             top_->eval();
@@ -373,7 +374,10 @@ class Board {
         if (txf_bit_ >= 0 && txf_next_ < due) due = txf_next_;
         if (tx_bit_ >= 0 && tx_sample_ < due) due = tx_sample_;
         if (hx_bit_ >= 0 && hx_sample_ < due) due = hx_sample_;
-        if (bench_ && ((cycle_ + 4095) & ~uint64_t{4095}) < due) due = (cycle_ + 4095) & ~uint64_t{4095};
+        if (bench_) {
+            const uint64_t pads = (cycle_ + kBenchPadClocks - 1) / kBenchPadClocks * kBenchPadClocks;
+            if (pads < due) due = pads;
+        }
         due_ = due;
         tx_trig_ = (tx_bit_ < 0 ? 1u : 0u) | (hx_bit_ < 0 ? 1u << txf_flip_ : 0u);
     }
