@@ -41,7 +41,11 @@ def run(cmd: list[str], **kw) -> str:
 
 def standalone(cycles: int) -> dict:
     out = run([str(BINS["GP 1.0 (5 pins, 4 timers)"][0]), "--bench", str(cycles)])
-    m = re.search(r"cycles (\d+) seconds ([\d.]+)", out) or sys.exit(f"sim/bench.py: error: bench output {out!r}")
+    m = re.search(r"cycles (\d+) seconds ([\d.]+) cycles_per_second \d+ bytes_out (\d+)", out) or sys.exit(
+        f"sim/bench.py: error: bench output {out!r}")
+    # A core that answered nothing would be cheap to simulate: the figure counts only if it worked.
+    if int(m[3]) < int(m[1]) // 100:
+        sys.exit(f"sim/bench.py: error: the busy scenario's core sent {m[3]} bytes in {m[1]} clocks")
     return {"label": "standalone Verilator harness (C++)", "cycles": int(m[1]), "seconds": float(m[2])}
 
 
