@@ -94,10 +94,18 @@ class Design:
     seeds: int = 3
     full_only: bool = False       # placed only with --full (minutes per seed)
     timeout: int = PNR_TIMEOUT
+    freq_mhz: float | None = None  # its own Fmax goal, when above the family's 4x board clock
 
     @property
     def fam(self) -> Family:
         return FAMILIES[self.family]
+
+    @property
+    def pnr_mhz(self) -> float:
+        # nextpnr's --freq: the goal a design is placed, routed and judged (PASS/FAIL in its log,
+        # `make bitstream`) for. Measured 2026-12-03: nextpnr-ice40's heap placer and router1
+        # place the iCEBreaker top the same at 48 and 60 MHz; the figure is for the log and slack.
+        return self.freq_mhz or self.fam.target_mhz
 
 
 def _core(pins: int, timer_bits: int, family: str = "ice40", placed: bool = False, **kw) -> Design:
@@ -127,7 +135,7 @@ DESIGNS = (
     # 64 x 64 with the serial link in one UP5K, the pads serialized by synth/uart_wrap.v.
     Design("uart64t", "uart_wrap", {"CLK_HZ": "12000000"}, 64, 64, "uart_wrap", sources=("uart_wrap.v",)),
     Design("icebreaker", "icebreaker_top", {}, 5, 4, "icebreaker_top",
-           sources=("ice40_pads.v", "icebreaker_top.v"), pcf="icebreaker.pcf", seeds=5),
+           sources=("ice40_pads.v", "icebreaker_top.v"), pcf="icebreaker.pcf", seeds=5, freq_mhz=60),
     Design("icebreaker24", "icebreaker_top", {"NUM_PINS": "24", "TIMER_MASK": "24'hffffff"}, 24, 24,
            "icebreaker_top", sources=("ice40_pads.v", "icebreaker_top.v"), pcf="icebreaker.pcf"),
     *_family("ecp5", "ulx3s_top", "ulx3s.lpf"), *_family("gowin", "tangnano9k_top", "tangnano9k.cst"),
@@ -189,7 +197,7 @@ def _nextpnr(work: Path, d: Design, seed: int, tag: str | None = None, netlist: 
              out: bool = False) -> dict:
     """One placement: {seed, lcs, lcs_available, fmax (MHz, the slowest clock)}."""
     f, tag = d.fam, tag or f"pnr_s{seed}"
-    cmd = [tool(f.nextpnr), *f.nextpnr_opts, "--freq", f"{f.target_mhz:g}", "--timing-allow-fail", "--json", netlist,
+    cmd = [tool(f.nextpnr), *f.nextpnr_opts, "--freq", f"{d.pnr_mhz:g}", "--timing-allow-fail", "--json", netlist,
            "--seed", str(seed), "--report", f"{tag}.json", "-q", "-l", f"{tag}.log"]
     cmd += [f.constraint[0], f"{f.constraint[1]}src/{d.pcf}"] if d.pcf else []
     try:
@@ -315,6 +323,7 @@ def report(r: dict[str, dict]) -> str:
     fit_pct = (100 * max(s["lcs"] for s in fit["seeds"]) / fit["seeds"][0]["lcs_available"]) if fit and fit["seeds"] else None
     board = [s["fmax"] for s in r.get("icebreaker", {}).get("seeds", [])]
     b24 = [s["fmax"] for s in r.get("icebreaker24", {}).get("seeds", [])]
+    goal = DESIGN["icebreaker"].pnr_mhz   # the board top's own target, also its nextpnr --freq
     targets = [("core5 LUT4", "≤ 700", cell("core5", "lut4"), lambda v: v <= 700),
                ("core64t LUT4", f"≤ {TARGET_64X64}", cell("core64t", "lut4"), lambda v: v <= TARGET_64X64),
                ("core64t FF", "≤ 2400", cell("core64t", "ff"), lambda v: v <= 2400),
@@ -326,7 +335,7 @@ def report(r: dict[str, dict]) -> str:
                ("uart64t worst Fmax (MHz)", "≥ 48", min((s["fmax"] for s in fit["seeds"]), default=None) if fit else None,
                 lambda v: v >= 48),
                ("icebreaker24 worst Fmax (MHz)", "≥ 12", min(b24) if b24 else None, lambda v: v >= 12),
-               ("icebreaker median Fmax (MHz)", "≥ 60", statistics.median(board) if board else None, lambda v: v >= 60),
+               ("icebreaker median Fmax (MHz)", f"≥ {goal:g}", statistics.median(board) if board else None, lambda v: v >= goal),
                ("icebreaker worst Fmax (MHz)", "≥ 55", min(board) if board else None, lambda v: v >= 55)]
     # A design nextpnr could not place shows why, and misses its target.
     lines += _table(["target", "limit", "measured", ""], [

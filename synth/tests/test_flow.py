@@ -80,6 +80,26 @@ def test_a_seed_past_the_time_limit_is_unplaced(monkeypatch, tmp_path) -> None:
         flow._nextpnr(tmp_path, d, 1)
 
 
+def test_nextpnr_places_each_design_for_its_own_target(monkeypatch, tmp_path) -> None:
+    """The iCEBreaker top is placed and routed for its 60 MHz goal; every other design for the
+    family's 4x board clock that it must close at."""
+    monkeypatch.setattr(flow, "tool", lambda name: name)
+    freq = {}
+
+    def run(cmd, cwd, stdout=None, stderr=None, text=None, timeout=None, check=None):
+        freq[cmd[0]] = cmd[cmd.index("--freq") + 1]
+        raise subprocess.TimeoutExpired(cmd, timeout)
+
+    monkeypatch.setattr(flow.subprocess, "run", run)
+    got = {}
+    for name in ("icebreaker", "icebreaker24", "uart64t", "core5", "ulx3s", "tangnano9k"):
+        with pytest.raises(flow.Unplaced):
+            flow._nextpnr(tmp_path, flow.DESIGN[name], 1)
+        got[name] = freq.pop(flow.DESIGN[name].fam.nextpnr)
+    assert got == {"icebreaker": "60", "icebreaker24": "48", "uart64t": "48", "core5": "48", "ulx3s": "100",
+                   "tangnano9k": "108"}
+
+
 def _result(name: str, lut4: int, ff: int, fmax: list[float] = (), lcs: int = 0, unplaced: str | None = None) -> dict:
     d = flow.DESIGN[name]
     return {"design": name, "pins": d.pins, "timers": d.timers, "cells": {"lut4": lut4, "ff": ff, "carry": 0, "ram": 2},
