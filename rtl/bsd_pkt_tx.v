@@ -142,9 +142,9 @@ module bsd_pkt_tx #(
         last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
         // (one expression too) a flush without a swap: finished, credited to nobody
         credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
-        // The packet's registers load whenever an item would be taken (free),
-        // offered or not, so that their enable does not wait for the queue's
-        // offer: without one, valid_q stays 0 and they are never read.
+        // The packet's registers load only when an item is taken (load): on an
+        // idle clock (free, nothing offered) valid_q stays 0 and they are never
+        // read, so a simulator skips them there (most clocks of a busy session).
         // (The handshake's branch first: it reads pos_q and the flags that the load's
         // writes, and a simulator keeps no copy of a flop read before it is written.)
         if (hs && !free) begin
@@ -168,7 +168,7 @@ module bsd_pkt_tx #(
             pos_q   <= pos_q + 4'd1;
             first_q <= 1'b0;
         end
-        if (free) begin
+        if (load) begin
             pos_q    <= 4'd0;
             n_q      <= n;
             kind_q   <= kind;
