@@ -188,11 +188,14 @@ module bsd_parser #(
         end
         if (pos_q[1]) pkt_d1_q <= s_axis_tdata;
         if (pos_q[2]) pkt_d2_q <= s_axis_tdata;
-        if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;
-        if (pos_q[4]) pkt_tail_q[31:24] <= s_axis_tdata;
-        if (pos_q[5]) pkt_tail_q[23:16] <= s_axis_tdata;
-        if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
-        if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
+        // (d3..d7 come only with cmdDEBUG: one test for the five on other clocks)
+        if (|pos_q[7:3]) begin
+            if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;
+            if (pos_q[4]) pkt_tail_q[31:24] <= s_axis_tdata;
+            if (pos_q[5]) pkt_tail_q[23:16] <= s_axis_tdata;
+            if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
+            if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
+        end
 
         if (data_q && take(s_axis_tvalid)) begin  // a data byte
             last_q <= rem_q == 3'd1;
