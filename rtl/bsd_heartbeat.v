@@ -53,9 +53,12 @@ module bsd_heartbeat #(
             at_end_q <= !due && ticks_q == LAST_BEFORE[W-1:0];
         end
         if (done_i) req_q <= 1'b0;
-        if (answer) begin
-            answered_q <= 1'b1;
-            link_up_q  <= 1'b1;
+        // (nested under answer_i, the rare term: a simulator tests one bit on most clocks)
+        if (answer_i) begin
+            if (answer) begin
+                answered_q <= 1'b1;
+                link_up_q  <= 1'b1;
+            end
         end
         if (due) begin
             if (!answered || req_q) link_up_q <= 1'b0;

@@ -150,17 +150,20 @@ module bsd_parser #(
                               data_q && !v && !tmo, pend_q || (data_q && v)};
             end else if (!v && !tick_i) begin
                 next_state = {len_q, data_q, 3'b000};
-            end else begin
+            end else if (data_q) begin
+                // (stop_q is 0 here, so pend_q is too: data_q, len_q or neither, each with
+                // a branch of its own, so that a simulator decodes the byte as N only for N)
+                tmo        = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
+                next_state = {1'b0, v ? !last_q : !tmo, 1'b0, v && own_q && rem_q == 3'd1, 1'b0};
+            end else if (len_q) begin
                 tmo     = (RX_TIMEOUT_US != 0) && tick_i && idle_q == IDLE_END;
                 to_pend = (own_q && len_over(b)) || (probe_q && len_zero(b));
                 to_data = !len_over(b) && !len_zero(b);
                 // (a packet to this module with its next byte its last, or a packet pending)
-                next_state = {(!len_q && !data_q && v) || (len_q && !v && !tmo),
-                              (len_q && v && to_data) || (data_q && (v ? !last_q : !tmo)),
-                              len_q && v && to_pend,
-                              v && ((len_q && ((to_data && own_q && len_one(b[2:0])) || to_pend)) ||
-                                    (data_q && own_q && rem_q == 3'd1)),
-                              1'b0};
+                next_state = {!v && !tmo, v && to_data, v && to_pend,
+                              v && ((to_data && own_q && len_one(b[2:0])) || to_pend), 1'b0};
+            end else begin
+                next_state = {v, 4'b0000};
             end
         end
     endfunction
@@ -185,11 +188,14 @@ module bsd_parser #(
         end
         if (pos_q[1]) pkt_d1_q <= s_axis_tdata;
         if (pos_q[2]) pkt_d2_q <= s_axis_tdata;
-        if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;
-        if (pos_q[4]) pkt_tail_q[31:24] <= s_axis_tdata;
-        if (pos_q[5]) pkt_tail_q[23:16] <= s_axis_tdata;
-        if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
-        if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
+        // (d3..d7 come only with cmdDEBUG: one test for the five on other clocks)
+        if (|pos_q[7:3]) begin
+            if (pos_q[3]) pkt_tail_q[39:32] <= s_axis_tdata;
+            if (pos_q[4]) pkt_tail_q[31:24] <= s_axis_tdata;
+            if (pos_q[5]) pkt_tail_q[23:16] <= s_axis_tdata;
+            if (pos_q[6]) pkt_tail_q[15:8]  <= s_axis_tdata;
+            if (pos_q[7]) pkt_tail_q[7:0]   <= s_axis_tdata;
+        end
 
         if (data_q && take(s_axis_tvalid)) begin  // a data byte
             last_q <= rem_q == 3'd1;

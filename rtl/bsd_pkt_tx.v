@@ -142,19 +142,23 @@ module bsd_pkt_tx #(
         last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
         // (one expression too) a flush without a swap: finished, credited to nobody
         credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
-        // The packet's registers load whenever an item would be taken (free),
-        // offered or not, so that their enable does not wait for the queue's
-        // offer: without one, valid_q stays 0 and they are never read.
+        // The packet's registers load only when an item is taken (load): on an
+        // idle clock (free, nothing offered) valid_q stays 0 and they are never
+        // read, so a simulator skips them there (most clocks of a busy session).
         // (The handshake's branch first: it reads pos_q and the flags that the load's
         // writes, and a simulator keeps no copy of a flop read before it is written.)
         if (hs && !free) begin
-            tdata_q     <= when(sel_addr_q, {4'd0, n_q}) |
-                           when(sel_n_q && k_timer, CMD_DEV_VAL) |
-                           when(sel_tcmd_q, {2'b00, id_q}) | when(sel_tid_q, result_q[15:8]) |
-                           when(sel_thi_q, result_q[7:0]) |
-                           rep_next(sel_n_q && k_reply, sel_rep_q, rep_bytes) |
-                           when(sel_n_q && k_hb, CMD_HB) |
-                           when(sel_hcmd_q, hb_type_q);
+            // (the address's byte, then by kind: a simulator works out only the
+            // packet's own source's terms; the flags of the other kinds are 0)
+            if (sel_addr_q)
+                tdata_q <= {4'd0, n_q};
+            else if (k_reply)
+                tdata_q <= rep_next(sel_n_q, sel_rep_q, rep_bytes);
+            else if (k_hb)
+                tdata_q <= when(sel_n_q, CMD_HB) | when(sel_hcmd_q, hb_type_q);
+            else
+                tdata_q <= when(sel_n_q, CMD_DEV_VAL) | when(sel_tcmd_q, {2'b00, id_q}) |
+                           when(sel_tid_q, result_q[15:8]) | when(sel_thi_q, result_q[7:0]);
             // The next byte's flag (none after a packet's last byte: a reply
             // has N <= 8, PROTOCOL.md).
             // (from the chain's end back: each flag is read before it is written)
@@ -168,7 +172,7 @@ module bsd_pkt_tx #(
             pos_q   <= pos_q + 4'd1;
             first_q <= 1'b0;
         end
-        if (free) begin
+        if (load) begin
             pos_q    <= 4'd0;
             n_q      <= n;
             kind_q   <= kind;
