@@ -9,7 +9,8 @@
 //   the clock after its last byte, a probe or serialError the first clock hold_i is 0 after
 //   its length byte; its kind, N and data bytes d0..d(N-1) are the packet's; a command's N is
 //   the length byte it accepted, 1..8 (N > 8 never reaches the executor as a command);
-//   pkt_valid_o never follows a clock with hold_i 1;
+//   pkt_valid_o never follows a clock with hold_i 1, nor comes with s_axis_tready waiting for
+//   hold_i (so the top's hold_i need not include pkt_valid_o);
 // - pkt_cmd_o is pkt_d0_o's command flags, from the second clock after reset on (the two
 //   load together; the first load comes on the clock after reset, which sets every slot);
 // - from any reachable state, at most 10 bytes (address included) or TIMEOUT_TICKS idle
@@ -123,6 +124,9 @@
             assert(pkt_valid_o == f_exp);
             if (pkt_valid_o) begin
                 assert(!f_hold_q);
+                // Never waiting on the handover's clock: the top gives hold_i the reply
+                // slot's flop alone (bsd_reply_slot pend_o), without this clock's pkt_valid.
+                assert(!stop_q);
                 assert(pkt_kind_o == f_pk && pkt_n_o == f_pn);
                 if (pkt_kind_o == KIND_CMD) begin
                     assert(f_len >= 8'd1 && f_len <= 8'd8 && {4'd0, pkt_n_o} == f_len);

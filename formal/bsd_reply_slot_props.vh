@@ -79,6 +79,7 @@
             assert(dio_new_o == f_dio_q);
             if (f_dio_q) assert(dio_id_o == f_id_q && dio_val_o == f_val_q);
             assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o || f_srst_q));
+            assert(pend_o == (s2_valid_i || rep_req_o || f_srst_q));
             // Stage 2 finds the slot free.
             if (s2_valid_i) assert(!rep_req_o);
             // The reply's event: the clock the request rises (the power-up message's too).

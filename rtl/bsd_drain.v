@@ -30,7 +30,14 @@ module bsd_drain #(
     parameter integer        TIMER_ID_BASE = 10,
     // The number of timers (TIMER_MASK's ones, at least 1): timer t is the
     // t-th pin of TIMER_MASK.
-    parameter integer        NT            = 4
+    parameter integer        NT            = 4,
+    // The DIG_IO values' device IDs lie in DIO_ID_LO..DIO_ID_HI (the top's
+    // pin IDs): a timer whose ID is above them all never ranks before a value,
+    // one not above the lowest always does, so their rank gates fold away
+    // (GP 1.0: every timer ID is above every pin's, and the value's rank is
+    // no gate on the pick's enable, the iCEBreaker top's critical path).
+    parameter integer        DIO_ID_LO     = 0,
+    parameter integer        DIO_ID_HI     = 63
 ) (
     input  wire                       clk,
     input  wire                       rst,
@@ -165,7 +172,21 @@ module bsd_drain #(
     /* verilator coverage_on */
     localparam [8*NT-1:0] HI_MASKS = id_masks(1);
     localparam [8*NT-1:0] LO_MASKS = id_masks(0);
-    // The timers whose ID is not above id.
+    // The timers that may rank before a value (ID not above DIO_ID_HI) and
+    // those that always do (ID not above DIO_ID_LO).
+    // Only localparam initializers call it.
+    /* verilator coverage_off */
+    function [NT-1:0] id_le(input integer bound);
+        integer t;
+        begin
+            for (t = 0; t < NT; t = t + 1)
+                id_le[t] = {26'd0, IDS[6*t +: 6]} <= bound;
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [NT-1:0] MAY_RANK  = id_le(DIO_ID_HI);
+    localparam [NT-1:0] MUST_RANK = id_le(DIO_ID_LO);
+    // The timers whose ID is not above id (an ID in DIO_ID_LO..DIO_ID_HI).
     function [NT-1:0] ranks_of(input [5:0] id);
         integer dv;
         reg [NT-1:0] hi_gt_t, hi_eq_t, lo_ge_t;
@@ -178,7 +199,7 @@ module bsd_drain #(
                 hi_eq_t = hi_eq_t | ({NT{id[5:3] == dv[2:0]}} & HI_MASKS[NT*dv +: NT]);
                 lo_ge_t = lo_ge_t | ({NT{id[2:0] >= dv[2:0]}} & LO_MASKS[NT*dv +: NT]);
             end
-            ranks_of = hi_gt_t | (hi_eq_t & lo_ge_t);
+            ranks_of = (hi_gt_t | (hi_eq_t & lo_ge_t)) & MAY_RANK | MUST_RANK;
         end
     endfunction
     // A clock with an item (not next): {rem_q, any_t_q, dio_q, rep_q, hb_q}

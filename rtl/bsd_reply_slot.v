@@ -31,6 +31,11 @@ module bsd_reply_slot (
     input  wire                dio_val_i,
     // to the parser: a packet that may need a slot must wait
     output wire                hold_o,
+    // hold_o without its pkt_valid_i term, a flop: for a consumer whose
+    // holding state is never on the clock of pkt_valid_i (bsd_parser's stop_q:
+    // it hands a packet over only as it leaves that state), so its ready
+    // starts at flops, not behind the OR (the iCEBreaker top's critical path)
+    output wire                pend_o,
     // the waiting reply, to bsd_pkt_tx: A, rep_n_o, rep_data_o[31:24] .. rep_tail_o[7:0]
     output wire                rep_req_o,
     output wire [3:0]          rep_n_o,
@@ -70,10 +75,11 @@ module bsd_reply_slot (
     // and may fill it, or the core resets (the clock after soft_reset_i, when
     // the reset fills the slot with the power-up message). pending_q is that
     // condition for every stage after the first, worked out a clock ahead
-    // (from each flag's next value) so that hold_o, which gates the parser's
-    // s_axis_tready, is one gate of two flops.
+    // (from each flag's next value) so that hold_o is one gate of two flops,
+    // and pend_o, which gates the parser's s_axis_tready, a flop.
     wire rep_wait_d = rep_req_o && !rep_done_i;
     assign hold_o = pkt_valid_i || pending_q;
+    assign pend_o = pending_q;
 
     always @(posedge clk) begin
         reply_q    <= reply_i;

@@ -9,7 +9,8 @@ clocks after the last byte) and stays until rep_done_i; rep_new_o (the event que
 bit) is the clock the request rises; a DIG_IO RFLX value is an event of the clock after
 dio_rflx_i (dio_new_o with its ID and level) and never holds anything; hold_o = pkt_valid_i,
 or a packet in the stages, or the slot full, or the clock after soft_reset_i (a cmdRESET in
-stage 2: the core's reset, which fills the slot, comes on that clock).
+stage 2: the core's reset, which fills the slot, comes on that clock); pend_o is hold_o
+without its pkt_valid_i term.
 
 SlotModel is that text; all outputs are sampled before each rising edge and compared with
 it on every clock. The system test plays the parser (a packet only while hold_o is 0),
@@ -52,7 +53,8 @@ class SlotModel:
         return self.decided or self.waiting
 
     def outputs(self, v: dict) -> dict:
-        o = dict(hold_o=int(bool(v["pkt_valid_i"]) or self.in_stages), rep_req_o=int(self.rep_req),
+        o = dict(hold_o=int(bool(v["pkt_valid_i"]) or self.in_stages), pend_o=int(self.in_stages),
+                 rep_req_o=int(self.rep_req),
                  rep_new_o=int(self.decided or self.boot), dio_new_o=int(self.dio is not None))
         if self.rep_req:
             o.update(rep_n_o=self.reply[0], _rep=self.reply[1][:self.reply[0]])
@@ -74,7 +76,7 @@ class SlotTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, soft_reset_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
                   dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0)
     PULSES = ("pkt_valid_i", "soft_reset_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
-    OUTPUTS = ("hold_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
+    OUTPUTS = ("hold_o", "pend_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
                "dio_id_o", "dio_val_o")
 
     def __init__(self, dut) -> None:

@@ -1,0 +1,42 @@
+# SPDX-License-Identifier: Apache-2.0
+"""synth/depth.py's estimate on a netlist small enough to work out by hand: two flops, a LUT
+between them packed with the second (it drives nothing else), a second LUT on the first's
+enable."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import depth
+
+
+def lut(i0: int | str, i3: int | str, o: int) -> dict:
+    return {"type": "SB_LUT4", "connections": {"I0": [i0], "I1": ["0"], "I2": ["0"], "I3": [i3], "O": [o]},
+            "port_directions": {"I0": "input", "I1": "input", "I2": "input", "I3": "input", "O": "output"}}
+
+
+def ff(d: int, q: int, e: int | None = None) -> dict:
+    conn = {"C": [1], "D": [d], "Q": [q]} | ({"E": [e]} if e else {})
+    return {"type": "SB_DFFE" if e else "SB_DFF", "connections": conn,
+            "port_directions": {k: "output" if k == "Q" else "input" for k in conn}}
+
+
+def test_depth(tmp_path: Path, capsys) -> None:
+    # a: Q 10, its D 11 from LUT x (I0 = a.Q), enable 12 from LUT y (I3 = b.Q); b: D 13 from LUT z
+    cells = {"a": ff(11, 10, 12), "b": ff(13, 14), "x": lut(10, "0", 11), "y": lut("0", 14, 12),
+             "z": lut(10, 14, 13), "w": lut(11, "0", 15)}
+    net = tmp_path / "top.json"
+    net.write_text(json.dumps({"modules": {"t": {"attributes": {"top": 1}, "cells": cells, "netnames": {}}}}))
+    eps = {(n, p): (t, lv) for t, lv, n, p, _ in depth.Netlist(net).endpoints()}
+    # a.D: x also drives w, so it is not packed: a route and a pass-through LUT before the flop
+    assert eps[("a", "D")] == (depth.CLKQ + depth.ROUTE + depth.LUTD["I0"] + depth.ROUTE + depth.LUTD["I0"]
+                               + depth.SETUP, 1)
+    assert eps[("a", "E")] == (depth.CLKQ + depth.ROUTE + depth.LUTD["I3"] + depth.CEROUTE + depth.SETUP, 1)
+    # b.D: z packed with b; its later input is I0 (a.Q and b.Q both arrive at clock-to-Q)
+    assert eps[("b", "D")] == (depth.CLKQ + depth.ROUTE + depth.LUTD["I0"] + depth.SETUP, 1)
+    assert depth.main([str(net), "--over", "0"]) == 0
+    assert "over 0 ns: 3" in capsys.readouterr().out
