@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_trans_latch (included at the end of the module under `ifdef FORMAL).
-// f_ref is the level the latch compares with: the level at arming, then each sample's.
+// f_ref is the level the latch compares with: the level at arming, then each sample's
+// (every sample's, watched or not: watch_i changes only with an arm at the top).
 // At most one fire per arm; a fire needs a sampled level that differs from f_ref and
 // matches TRG (so the level present at arming never fires by itself); an arm on the
 // clock of a matching edge wins (no fire on the next clock, armed again).
@@ -22,7 +23,7 @@
             f_ref   <= level_i;
         end else begin
             if (fire) f_fired <= 1'b1;
-            if (armed_q && watch_i && sample_i) f_ref <= level_i;
+            if (sample_i) f_ref <= level_i;
         end
         if (rst) f_fired <= 1'b1;  // no arm yet
     end

@@ -67,10 +67,13 @@ module bsd_cfg_regs #(
                 end
             end
         end
-        if (out_we_i) begin
-            for (p = 0; p < NUM_PINS; p = p + 1)
-                if (sel_i[p]) out_q[p] <= out_wdata_i;
-        end
+        // The output latches: the write's strobe as the enable all pins
+        // share, and the select an AND-OR in each bit's data, so that each
+        // flop takes a LUT of its own (select, data, itself) that nextpnr
+        // packs with it. A per-pin enable (strobe AND select) took a LUT a
+        // pin and left the flop a logic cell alone (64 pins: 64 cells more).
+        if (out_we_i)
+            out_q <= (out_q & ~sel_i) | (sel_i & {NUM_PINS{out_wdata_i}});
         if (rst) begin
             for (k = 1; k < 5; k = k + 1)
                 cfg_q[k*NUM_PINS +: NUM_PINS] <= {NUM_PINS{CFG_RESET[k]}};

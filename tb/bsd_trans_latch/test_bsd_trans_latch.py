@@ -24,11 +24,12 @@ PERIOD_NS = 10
 class LatchModel:
     """PROTOCOL.md 4.1 + DESIGN.md decision 5, at the block's ports.
 
-    A sample is taken on clocks with sample_i and watch_i (ENA && IODIR) both 1. Armed, the
-    first sample that differs from the previous sample in the TRG direction fires
-    (one clock) and disarms; samples in the other direction only move the previous
-    sample. arm_i loads the current level as the previous sample and (re)arms; it
-    wins over a sample on the same clock.
+    A sample is taken on clocks with sample_i. Armed and watched (watch_i, ENA && IODIR),
+    the first sample that differs from the previous sample in the TRG direction fires
+    (one clock) and disarms; every sample, watched or armed or not, moves the previous
+    sample (at the top watch_i changes only with an arm, which loads it anyway). arm_i
+    loads the current level as the previous sample and (re)arms; it wins over a sample
+    on the same clock.
     """
 
     def __init__(self) -> None:
@@ -42,8 +43,8 @@ class LatchModel:
         if arm:
             self.armed, self.prev = True, level
             return 0
-        if self.armed and watch and sample:
-            fire = level != self.prev and level == trg
+        if sample:
+            fire = self.armed and watch and level != self.prev and level == trg
             self.prev = level
             if fire:
                 self.armed = False
