@@ -9,8 +9,9 @@
 //   the clock after its last byte, a probe or serialError the first clock hold_i is 0 after
 //   its length byte; its kind, N and data bytes d0..d(N-1) are the packet's; a command's N is
 //   the length byte it accepted, 1..8 (N > 8 never reaches the executor as a command);
-//   pkt_valid_o never follows a clock with hold_i 1, nor comes with s_axis_tready waiting for
-//   hold_i (so the top's hold_i need not include pkt_valid_o);
+//   pkt_valid_o never follows a clock with hold_i 1 or with pkt_valid_o, nor comes with
+//   s_axis_tready waiting for hold_i (so the top's hold_i need not include pkt_valid_o:
+//   bsd_reply_slot assumes packets at least two clocks apart);
 // - pkt_cmd_o is pkt_d0_o's command flags, from the second clock after reset on (the two
 //   load together; the first load comes on the clock after reset, which sets every slot);
 // - from any reachable state, at most 10 bytes (address included) or TIMEOUT_TICKS idle
@@ -20,7 +21,7 @@
 // - induction: the design's registers agree with the reference.
     localparam integer TW = $clog2(TIMEOUT_TICKS + 1);  // the idle tick count's width
     reg         f_past_valid = 1'b0;
-    reg         f_rst_q, f_sv_q, f_sr_q, f_hold_q;
+    reg         f_rst_q, f_sv_q, f_sr_q, f_hold_q, f_pv_q;
     reg  [7:0]  f_sd_q;
     wire        f_acc = s_axis_tvalid && s_axis_tready;
     wire [7:0]  f_b = s_axis_tdata;
@@ -56,6 +57,7 @@
         f_rst_q <= rst;
         f_sv_q <= s_axis_tvalid; f_sr_q <= s_axis_tready; f_sd_q <= s_axis_tdata;
         f_hold_q <= hold_i;
+        f_pv_q   <= pkt_valid_o && !rst;
         if (pos_q[0]) f_ld <= 1'b1;
         f_exp <= 1'b0;
         if (f_pend && !hold_i) begin
@@ -124,9 +126,11 @@
             assert(pkt_valid_o == f_exp);
             if (pkt_valid_o) begin
                 assert(!f_hold_q);
-                // Never waiting on the handover's clock: the top gives hold_i the reply
-                // slot's flop alone (bsd_reply_slot pend_o), without this clock's pkt_valid.
+                // Never waiting on the handover's clock, and never two handovers in a
+                // row: the top gives hold_i the reply slot's flop alone (bsd_reply_slot
+                // hold_o), without this clock's pkt_valid.
                 assert(!stop_q);
+                assert(!f_pv_q);
                 assert(pkt_kind_o == f_pk && pkt_n_o == f_pn);
                 if (pkt_kind_o == KIND_CMD) begin
                     assert(f_len >= 8'd1 && f_len <= 8'd8 && {4'd0, pkt_n_o} == f_len);

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Formal properties of bsd_reply_slot (included at the end of the module under `ifdef FORMAL).
 // The neighbours are assumed as brainstem_dio has them: the parser hands a packet over
-// (pkt_valid_i) only on a clock after one with hold_o 0 (bsd_parser's props prove it), and
-// neither in reset nor on the clock after it (a packet takes at least two bytes);
+// (pkt_valid_i) only on a clock after one with hold_o 0 and without pkt_valid_i (bsd_parser's
+// props prove both), and neither in reset nor on the clock after it (a packet takes at least
+// two bytes);
 // stage 2 (s2_valid_i) is exactly the clock after pkt_valid_i (bsd_exec: a flop, reset);
 // reply_i and dio_rflx_i only with s2_valid_i, reply_n_i <= 8; soft_reset_i (a cmdRESET in
 // stage 2, which has no reply) only with s2_valid_i and without reply_i, and rst (the core's
@@ -15,8 +16,8 @@
 // after stage 2 and falls only the clock after its done); rep_new_o (the event queue's
 // reply bit) is exactly the clock the slot fills, the power-up message's included; a DIG_IO
 // RFLX value is an event of exactly the clock after stage 2 with stage 2's ID and level; stage
-// 2 always finds the slot free (nothing is overwritten or lost); hold_o = pkt_valid_i or a
-// packet in stage 2 or the slot full or the clock after soft_reset_i, exactly.
+// 2 always finds the slot free (nothing is overwritten or lost); hold_o = a packet in stage 2
+// or the slot full or the clock after soft_reset_i, exactly.
     reg                f_past_valid = 1'b0;
     reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q, f_srst_q;
     reg                f_rep_full;
@@ -60,7 +61,7 @@
 
     always @(*) begin
         if (!f_past_valid) assume(rst);
-        if (f_past_valid && pkt_valid_i) assume(!f_hold_q);
+        if (f_past_valid && pkt_valid_i) assume(!f_hold_q && !f_pkt_q);
         if (rst || f_rst_q) assume(!pkt_valid_i);  // the parser needs two bytes after reset
         assume(s2_valid_i == (f_past_valid && f_pkt_q));
         if (reply_i || dio_rflx_i) assume(s2_valid_i);
@@ -78,8 +79,7 @@
             end
             assert(dio_new_o == f_dio_q);
             if (f_dio_q) assert(dio_id_o == f_id_q && dio_val_o == f_val_q);
-            assert(hold_o == (pkt_valid_i || s2_valid_i || rep_req_o || f_srst_q));
-            assert(pend_o == (s2_valid_i || rep_req_o || f_srst_q));
+            assert(hold_o == (s2_valid_i || rep_req_o || f_srst_q));
             // Stage 2 finds the slot free.
             if (s2_valid_i) assert(!rep_req_o);
             // The reply's event: the clock the request rises (the power-up message's too).

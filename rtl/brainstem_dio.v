@@ -232,7 +232,7 @@ module brainstem_dio #(
     // The clock of the reset itself holds too (bsd_reply_slot's soft_reset_i):
     // a packet handed over then would meet the reply slot as the reset fills
     // it with the power-up message.
-    wire       pkt_hold, pkt_pend;
+    wire       pkt_hold;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -244,7 +244,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (rst),
         .tick_i        (tick),
-        .hold_i        (pkt_pend),
+        .hold_i        (pkt_hold),
         .s_axis_tdata  (s_axis_tdata),
         .s_axis_tvalid (s_axis_tvalid),
         .s_axis_tready (s_axis_tready),
@@ -349,7 +349,6 @@ module brainstem_dio #(
         .dio_id_i     (s2_dio_id & PID_ANY | PID_ALL),  // (read only for a good pin)
         .dio_val_i    (s2_dio_val),
         .hold_o       (pkt_hold),
-        .pend_o       (pkt_pend),
         .rep_req_o    (rep_req),
         .rep_n_o      (rep_n),
         .rep_data_o   (rep_data),
@@ -636,7 +635,7 @@ module brainstem_dio #(
     // The queues never fill (sized above), and the heartbeat's request is
     // followed through its item.
     // The executor takes d0 decoded (pkt_cmd), not the byte.
-    wire unused_top = ^{pkt_hold, evq_ready, outq_ready, tx_take, hb_req, rep_req, pkt_d0};
+    wire unused_top = ^{evq_ready, outq_ready, tx_take, hb_req, rep_req, pkt_d0};
 
 `ifndef SYNTHESIS
 `ifndef FORMAL  // Yosys takes no $fatal in an always block

@@ -7,7 +7,9 @@
 // queue. A DIG_IO RFLX value needs no slot: it is an event of one clock
 // (dio_new_o with its ID and level) and travels in the event queue.
 // The parser never completes a packet that could need the slot while it is
-// full: hold_o covers the clocks from the packet to its request.
+// full: hold_o covers the clocks after the packet up to its request (the
+// packet's own clock needs no hold: the parser hands packets over at least
+// two clocks apart, which its proof asserts).
 //
 // The reply slot takes stage 2's packet on every clock it is free, so its
 // data enables never wait for the decision; the decision itself lands in a
@@ -29,13 +31,10 @@ module bsd_reply_slot (
     input  wire                dio_rflx_i,    // it sends a DIG_IO value on RFLX
     input  wire [5:0]          dio_id_i,
     input  wire                dio_val_i,
-    // to the parser: a packet that may need a slot must wait
+    // to the parser: a packet that may need a slot must wait (a flop, so the
+    // parser's s_axis_tready starts at flops: it was the iCEBreaker top's
+    // critical path behind an OR with pkt_valid_i)
     output wire                hold_o,
-    // hold_o without its pkt_valid_i term, a flop: for a consumer whose
-    // holding state is never on the clock of pkt_valid_i (bsd_parser's stop_q:
-    // it hands a packet over only as it leaves that state), so its ready
-    // starts at flops, not behind the OR (the iCEBreaker top's critical path)
-    output wire                pend_o,
     // the waiting reply, to bsd_pkt_tx: A, rep_n_o, rep_data_o[31:24] .. rep_tail_o[7:0]
     output wire                rep_req_o,
     output wire [3:0]          rep_n_o,
@@ -71,15 +70,12 @@ module bsd_reply_slot (
     assign rep_new_o   = new_q;
     assign dio_new_o   = dio_new_q;
 
-    // hold_o: the slot is full, or a packet is on its way through the stages
-    // and may fill it, or the core resets (the clock after soft_reset_i, when
-    // the reset fills the slot with the power-up message). pending_q is that
-    // condition for every stage after the first, worked out a clock ahead
-    // (from each flag's next value) so that hold_o is one gate of two flops,
-    // and pend_o, which gates the parser's s_axis_tready, a flop.
+    // hold_o: the slot is full, or a packet is in stage 2 and may fill it,
+    // or the core resets (the clock after soft_reset_i, when the reset fills
+    // the slot with the power-up message): worked out a clock ahead, from each
+    // flag's next value, so that it is a flop.
     wire rep_wait_d = rep_req_o && !rep_done_i;
-    assign hold_o = pkt_valid_i || pending_q;
-    assign pend_o = pending_q;
+    assign hold_o = pending_q;
 
     always @(posedge clk) begin
         reply_q    <= reply_i;

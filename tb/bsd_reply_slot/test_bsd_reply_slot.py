@@ -7,15 +7,15 @@ PROTOCOL.md §6 (the power-up message `A, 2, 0x80, statePowerReset` is the first
 and the block's header comment: stage 2's reply becomes the request on the next clock (3
 clocks after the last byte) and stays until rep_done_i; rep_new_o (the event queue's reply
 bit) is the clock the request rises; a DIG_IO RFLX value is an event of the clock after
-dio_rflx_i (dio_new_o with its ID and level) and never holds anything; hold_o = pkt_valid_i,
-or a packet in the stages, or the slot full, or the clock after soft_reset_i (a cmdRESET in
-stage 2: the core's reset, which fills the slot, comes on that clock); pend_o is hold_o
-without its pkt_valid_i term.
+dio_rflx_i (dio_new_o with its ID and level) and never holds anything; hold_o (a flop) = a
+packet in stage 2, or the slot full, or the clock after soft_reset_i (a cmdRESET in stage 2:
+the core's reset, which fills the slot, comes on that clock); the packet's own clock needs no
+hold, as the parser hands packets over at least two clocks apart (its proof asserts it).
 
 SlotModel is that text; all outputs are sampled before each rising edge and compared with
-it on every clock. The system test plays the parser (a packet only while hold_o is 0),
-bsd_exec (stage 2 one clock after the packet, with a random decision) and the consumers
-(random done pulses), and checks that no reply or value is ever overwritten or lost.
+it on every clock. The system test plays the parser (a packet only after a clock with hold_o
+0 and no packet), bsd_exec (stage 2 one clock after the packet, with a random decision) and
+the consumers (random done pulses), and checks that no reply or value is ever overwritten or lost.
 """
 
 from __future__ import annotations
@@ -53,8 +53,7 @@ class SlotModel:
         return self.decided or self.waiting
 
     def outputs(self, v: dict) -> dict:
-        o = dict(hold_o=int(bool(v["pkt_valid_i"]) or self.in_stages), pend_o=int(self.in_stages),
-                 rep_req_o=int(self.rep_req),
+        o = dict(hold_o=int(self.in_stages), rep_req_o=int(self.rep_req),
                  rep_new_o=int(self.decided or self.boot), dio_new_o=int(self.dio is not None))
         if self.rep_req:
             o.update(rep_n_o=self.reply[0], _rep=self.reply[1][:self.reply[0]])
@@ -76,7 +75,7 @@ class SlotTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, soft_reset_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
                   dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0)
     PULSES = ("pkt_valid_i", "soft_reset_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
-    OUTPUTS = ("hold_o", "pend_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
+    OUTPUTS = ("hold_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
                "dio_id_o", "dio_val_o")
 
     def __init__(self, dut) -> None:
@@ -133,13 +132,13 @@ async def free(tb: SlotTB) -> None:
 
 @cocotb.test()
 async def test_reply_latency_and_hold(dut) -> None:
-    """pkt_valid_i raises hold_o at once; stage 2's reply is requested on the next clock
-    with its packet, held (and hold_o with it) until rep_done_i; a packet without a reply
-    holds for its two stages only."""
+    """pkt_valid_i raises hold_o on the next clock (stage 2); stage 2's reply is requested on
+    the next clock with its packet, held (and hold_o with it) until rep_done_i; a packet
+    without a reply holds for stage 2 only."""
     tb = SlotTB(dut)
     await free(tb)
     out = await tb.step(pkt_valid_i=1)
-    assert out["hold_o"] == 1
+    assert out["hold_o"] == 0
     out = await tb.step(s2_valid_i=1, reply_i=1, reply_n_i=3, reply_data_i=word([4, 5, 1, 0x55]))
     assert out["hold_o"] == 1 and out["rep_req_o"] == 0
     for _ in range(4):
@@ -150,10 +149,10 @@ async def test_reply_latency_and_hold(dut) -> None:
     out = await tb.step()
     assert out["rep_req_o"] == 0
     assert (await tb.step())["hold_o"] == 0
-    # no reply: hold for the packet's clock and stage 2, then free
+    # no reply: hold for stage 2, then free
     holds = [(await tb.step(pkt_valid_i=1))["hold_o"], (await tb.step(s2_valid_i=1))["hold_o"],
              (await tb.step())["hold_o"]]
-    assert holds == [1, 1, 0], holds
+    assert holds == [0, 1, 0], holds
 
 
 @cocotb.test()
@@ -165,17 +164,17 @@ async def test_soft_reset_holds(dut) -> None:
     holds = [(await tb.step(pkt_valid_i=1))["hold_o"],
              (await tb.step(s2_valid_i=1, soft_reset_i=1))["hold_o"],
              (await tb.step())["hold_o"], (await tb.step())["hold_o"]]
-    assert holds == [1, 1, 1, 0], holds
+    assert holds == [0, 1, 1, 0], holds
 
 
 @cocotb.test()
 async def test_rflx_value(dut) -> None:
     """A DIG_IO RFLX value is an event of exactly the clock after dio_rflx_i, with its ID
-    and level, and holds nothing: hold_o only for the packet's two stages."""
+    and level, and holds nothing: hold_o only for the packet's stage 2."""
     tb = SlotTB(dut)
     await free(tb)
     for dio_id, val in ((0, 1), (9, 0), (40, 1), (63, 1)):
-        assert (await tb.step(pkt_valid_i=1))["hold_o"] == 1
+        assert (await tb.step(pkt_valid_i=1))["hold_o"] == 0
         out = await tb.step(s2_valid_i=1, dio_rflx_i=1, dio_id_i=dio_id, dio_val_i=val)
         assert out["dio_new_o"] == 0
         out = await tb.step()
@@ -186,7 +185,7 @@ async def test_rflx_value(dut) -> None:
 
 @cocotb.test()
 async def test_system_random(dut) -> None:
-    """The parser hands a packet only while hold_o is 0, stage 2 follows a clock later with
+    """The parser hands a packet over only after a clock with hold_o 0 and no packet, stage 2 follows a clock later with
     a random reply and/or RFLX value, the transmitter takes replies after random delays:
     every reply comes out once, in order, none overwritten, and every RFLX value is an
     event once, in order."""
@@ -222,8 +221,8 @@ async def test_system_random(dut) -> None:
             got_rep.append((m.reply[0], m.reply[1][:m.reply[0]]))
         if out.get("dio_new_o"):
             got_dio.append((out["dio_id_o"], out["dio_val_o"]))
-        # the parser: a packet only on a clock after one with hold_o 0 (the handover)
-        if not out["hold_o"] and rng.random() < 0.7:
+        # the parser: a packet only on a clock after one with hold_o 0 and no packet
+        if not out["hold_o"] and not s2 and rng.random() < 0.7:
             kw["pkt_valid_i"] = 1
             pkt = True
         out = await tb.step(rst=0, **kw)
