@@ -27,6 +27,16 @@
         end
     endfunction
 
+    // The items left: the entry's flops' (for induction: each taken item is counted once).
+    function [3:0] f_left(input [NT-1:0] v);
+        integer f_j;
+        begin
+            f_left = {3'd0, dio_q} + {3'd0, rep_q} + {3'd0, hb_q};
+            for (f_j = 0; f_j < NT; f_j = f_j + 1)
+                f_left = f_left + {3'd0, v[f_j]};
+        end
+    endfunction
+
     wire [2:0] f_takes = {2'd0, take_t} + {2'd0, take_dio} + {2'd0, take_rep} + {2'd0, take_hb};
 
     always @(posedge clk) begin
@@ -77,6 +87,7 @@
             if (take_hb) assert(!any_t && !dio_q && !rep_q);
             // nothing lost or repeated: the entry's items, one each, then the next entry
             assert(f_taken <= f_items);
+            assert(f_taken + f_left(rem) == f_items);
             if (next) assert(f_taken + {1'b0, f_takes} == f_items);
             assert(ev_ready_o == next);
             assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));

@@ -37,7 +37,10 @@ module bsd_drain #(
     // (GP 1.0: every timer ID is above every pin's, and the value's rank is
     // no gate on the pick's enable, the iCEBreaker top's critical path).
     parameter integer        DIO_ID_LO     = 0,
-    parameter integer        DIO_ID_HI     = 63
+    parameter integer        DIO_ID_HI     = 63,
+    // Above 16 timers the pick works in groups of this many (below); the
+    // proof sets 4, so that a few timers make several groups.
+    parameter integer        PICK_GROUP    = 16
 ) (
     input  wire                       clk,
     input  wire                       rst,
@@ -123,7 +126,49 @@ module bsd_drain #(
     // v & ~(v - 1), not v & (~v + 1): the carry chain takes v itself, not an
     // inverter per bit (iCE40's carry has no inverted input). Up to 8 timers:
     // a priority chain, smaller still and a few steps in simulation (at 16
-    // the carry chain is the smaller: core16t 1200 against 1216 LUT4).
+    // the carry chain is the smaller: core16t 1200 against 1216 LUT4). Above
+    // PICK_GROUP (16), one carry chain per group of 16 timers, each
+    // subtracting 1 only when every group below is empty (an OR of the groups
+    // below, from flops), so no chain is longer than 16 bits: the 64-bit
+    // chain was uart64t's critical path (44 ns in nextpnr). uart64t's static
+    // estimate (synth/depth.py): 41.2 -> 33.8 ns, 3517 LUT4 either way;
+    // groups of 8 gave 34.0 ns and 3526 LUT4 (their OR over the groups below
+    // is a level deeper).
+    localparam integer GS = PICK_GROUP;
+    localparam integer NP = GS * ((NT + GS - 1) / GS);
+    // The groups' pick (NT > PICK_GROUP), of rem_q.
+    function [NT-1:0] lowest_grp(input [NT-1:0] v);
+        integer g;
+        reg below;
+        reg [NP-1:0] w;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [NP-1:0] l;  // its bits above NT pad the last group
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            w         = {NP{1'b0}};
+            w[NT-1:0] = v;
+            below     = 1'b0;  // a timer in a group below
+            for (g = 0; g < NP / GS; g = g + 1) begin
+                l[GS*g +: GS] = w[GS*g +: GS] & ~(w[GS*g +: GS] - {{(GS-1){1'b0}}, !below});
+                below = below || |w[GS*g +: GS];
+            end
+            lowest_grp = l[NT-1:0];
+        end
+    endfunction
+    // A wire, built only above PICK_GROUP timers and picked at the call
+    // sites: smaller builds then elaborate lowest() alone, as before the
+    // groups (with the groups' form in an untaken branch of lowest(), yosys
+    // and ABC mapped core16t's same logic 7 to 16 LUT4 larger). A simulator
+    // works it out when rem_q changes, on an item's clock.
+    wire [NT-1:0] low_grp;
+    generate
+        if (NT > GS) begin : g_grp
+            assign low_grp = lowest_grp(rem_q);
+        end else begin : g_flat
+            assign low_grp = {NT{1'b0}};  // never read
+        end
+    endgenerate
+    // The pick up to PICK_GROUP timers.
     function [NT-1:0] lowest(input [NT-1:0] v);
         integer t;
         reg seen;
@@ -212,7 +257,7 @@ module bsd_drain #(
         reg [NT-1:0] low;
         reg rank_t, dio_first, two_t, take_t, more;
         begin
-            low       = lowest(r);
+            low       = NT > GS ? low_grp : lowest(r);  // (r is rem_q, as in every call)
             rank_t    = |(r & ranks_of(dio_id_q));
             dio_first = dio_q && !rank_t;
             two_t     = |(r & ~low);
@@ -228,7 +273,7 @@ module bsd_drain #(
     endfunction
 `ifdef FORMAL
     wire [NT-1:0]       rem    = rem_q;
-    wire [NT-1:0]       low    = lowest(rem);
+    wire [NT-1:0]       low    = NT > GS ? low_grp : lowest(rem);
     wire [NT-1:0]       ranks  = ranks_of(dio_id_q);
     wire [NT+3:0]       f_unused_next;
     wire                f_last, take_t, take_dio, take_rep, take_hb;
