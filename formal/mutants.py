@@ -42,7 +42,7 @@ MUTANTS = [
      "rank_t    = |(r & ranks_of(dio_id_q));", "rank_t    = 1'b0;"),
     ("bsd_drain", "prove_t10", "bsd_drain.v",
      "every group of timers picks its lowest, not only the lowest group with a timer",
-     "- {{(GS-1){1'b0}}, !below});", "- {{(GS-1){1'b0}}, 1'b1});"),
+     "1'b1}) & {GS{!below}};", "1'b1});"),
     ("bsd_drain", "prove", "bsd_drain.v", "the empty flag ignores whether the new entry has items",
      "empty_q   <= !(ev_valid_i && ev_items);", "empty_q   <= !ev_valid_i;"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",

@@ -127,13 +127,13 @@ module bsd_drain #(
     // inverter per bit (iCE40's carry has no inverted input). Up to 8 timers:
     // a priority chain, smaller still and a few steps in simulation (at 16
     // the carry chain is the smaller: core16t 1200 against 1216 LUT4). Above
-    // PICK_GROUP (16), one carry chain per group of 16 timers, each
-    // subtracting 1 only when every group below is empty (an OR of the groups
-    // below, from flops), so no chain is longer than 16 bits: the 64-bit
-    // chain was uart64t's critical path (44 ns in nextpnr). uart64t's static
-    // estimate (synth/depth.py): 41.2 -> 33.8 ns, 3517 LUT4 either way;
-    // groups of 8 gave 34.0 ns and 3526 LUT4 (their OR over the groups below
-    // is a level deeper).
+    // PICK_GROUP (16), one carry chain per group of 16 timers, all from flops
+    // side by side, and a group's pick counts only when every group below is
+    // empty (an OR of their bits, beside the chains), so no chain is longer
+    // than 16 bits: the 64-bit chain was uart64t's critical path (44 ns in
+    // nextpnr). uart64t's static estimate (synth/depth.py): 41.2 -> 29.2 ns,
+    // 3517 -> 3564 LUT4; with the OR as the chains' subtrahend instead of a
+    // gate after them, 33.8 ns and 3509 LUT4; groups of 8, 34.0 ns.
     localparam integer GS = PICK_GROUP;
     localparam integer NP = GS * ((NT + GS - 1) / GS);
     // The groups' pick (NT > PICK_GROUP), of rem_q.
@@ -149,7 +149,7 @@ module bsd_drain #(
             w[NT-1:0] = v;
             below     = 1'b0;  // a timer in a group below
             for (g = 0; g < NP / GS; g = g + 1) begin
-                l[GS*g +: GS] = w[GS*g +: GS] & ~(w[GS*g +: GS] - {{(GS-1){1'b0}}, !below});
+                l[GS*g +: GS] = w[GS*g +: GS] & ~(w[GS*g +: GS] - {{(GS-1){1'b0}}, 1'b1}) & {GS{!below}};
                 below = below || |w[GS*g +: GS];
             end
             lowest_grp = l[NT-1:0];
