@@ -107,8 +107,8 @@ module bsd_pkt_tx #(
     // simulator works the byte out once per byte, not every clock. The next
     // byte is picked by one-hot flags, one per byte of each source (the kind
     // folded in), that mark the byte offered now: an AND-OR of a few terms
-    // instead of a mux on pos_q and kind_q. The flags advance with pos_q
-    // (pos_q itself still counts for tlast).
+    // instead of a mux on a byte index and kind_q. The flags advance with
+    // rem_q (which still counts for tlast).
     reg        sel_addr_q, sel_n_q;
     reg        sel_tcmd_q, sel_tid_q, sel_thi_q;  // a timer result's d0..d2 (d3 is last)
     reg [6:0]  sel_rep_q;                         // the reply's d0..d6 (d7 is last)
