@@ -83,7 +83,7 @@
             if (f_mv_q && !f_mr_q) assert(m_axis_tvalid && m_axis_tdata == f_md_q && m_axis_tlast == f_ml_q);
             assert(m_axis_tvalid == f_busy);
             if (f_busy) begin
-                assert(pos_q == f_pos && n_q == f_n && kind_q == f_kind && f_kind != 2'd3);
+                assert(rem_q == f_n - f_pos && kind_q == f_kind && f_kind != 2'd3);
                 assert(f_n <= 4'd8 && last_q == (f_pos == f_n + 4'd1));
                 assert(credit_q && first_q == (f_pos == 4'd0));
                 assert(m_axis_tlast == (f_pos == f_n + 4'd1));

@@ -46,7 +46,7 @@ MUTANTS = [
     ("bsd_drain", "prove", "bsd_drain.v", "the empty flag ignores whether the new entry has items",
      "empty_q   <= !(ev_valid_i && ev_items);", "empty_q   <= !ev_valid_i;"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",
-     "(hs ? pos_q == n_q : last_q)", "(hs ? pos_q == n_q + 4'd1 : last_q)"),
+     "!last_q && rem_q == 4'd0 :", "!last_q && rem_q == 4'd15 :"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "a reply's d4..d7 sent before its d0..d3",
      "wire [63:0] rep_bytes = {rep_data_i, rep_tail_i};", "wire [63:0] rep_bytes = {rep_tail_i, rep_data_i};", "UNKNOWN"),
     ("bsd_trans_latch", "prove", "bsd_trans_latch.v", "arming keeps the old sample: a level present at arming fires",

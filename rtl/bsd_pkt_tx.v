@@ -30,7 +30,7 @@ module bsd_pkt_tx #(
     input  wire        item_valid_i,
     input  wire [29:0] item_data_i,
     output wire        item_ready_o,
-    output wire        free_o,       // an item offered now would be taken
+    output wire        free_o,       // an item offered now would be taken (but for flush_i)
     output wire        idle_o,       // no packet going out (from flops only)
     // the reply slot: A, rep_n_i, rep_data_i[31:24] .. rep_tail_i[7:0]
     input  wire [3:0]  rep_n_i,
@@ -60,8 +60,9 @@ module bsd_pkt_tx #(
     // held here) by a byte index, so nothing is copied into a shift register.
     reg        valid_q;
     reg        last_q;   // the byte offered is the packet's last
-    reg [3:0]  pos_q;    // the byte offered: 0 address, 1 N, 2.. data
-    reg [3:0]  n_q;
+    // N minus the byte offered (0 the address, 1 N, 2.. data): N itself while the
+    // address is offered (the next byte), and 0 on the byte before the last.
+    reg [3:0]  rem_q;
     reg [1:0]  kind_q;
     reg [5:0]  idx_q;
     reg [5:0]  id_q;
@@ -84,6 +85,15 @@ module bsd_pkt_tx #(
     wire       free = !flush_i && (!valid_q || (hs && last_q));
     wire       load = item_valid_i && free;
     wire       swap = flush_i && valid_q && first_q && !m_axis_tready;
+    // The byte registers move on every handshake and whenever an item is offered
+    // while idle (step): from a flop, the handshake and the item's valid, not
+    // from load (which waits for last_q and the flush as well). In a packet, not
+    // after its last byte (mid), a step offers the next byte; otherwise it starts
+    // one with the item offered, which is taken then unless this is a last byte
+    // with nothing offered or a flush: valid_q then stays or falls to 0, and what
+    // was loaded is never read.
+    wire       step = valid_q ? m_axis_tready : item_valid_i;
+    wire       mid  = valid_q && !last_q;
     wire [1:0] kind = item_data_i[29:28];
     // The kinds are 0, 1 and 2 (never 3): bit 0 alone marks a reply, bit 1
     // alone a heartbeat, so each test is one bit (a timer's: neither).
@@ -97,8 +107,8 @@ module bsd_pkt_tx #(
     // simulator works the byte out once per byte, not every clock. The next
     // byte is picked by one-hot flags, one per byte of each source (the kind
     // folded in), that mark the byte offered now: an AND-OR of a few terms
-    // instead of a mux on pos_q and kind_q. The flags advance with pos_q
-    // (pos_q itself still counts for tlast).
+    // instead of a mux on a byte index and kind_q. The flags advance with
+    // rem_q (which still counts for tlast).
     reg        sel_addr_q, sel_n_q;
     reg        sel_tcmd_q, sel_tid_q, sel_thi_q;  // a timer result's d0..d2 (d3 is last)
     reg [6:0]  sel_rep_q;                         // the reply's d0..d6 (d7 is last)
@@ -121,7 +131,9 @@ module bsd_pkt_tx #(
 
     wire done = hs && last_q && credit_q;
     assign item_ready_o  = load;
-    assign free_o        = free;
+    // (no flush_i: the output queue, its only reader, is reset with it, and its
+    // read enable, which free_o reaches, waits for one flop less)
+    assign free_o        = !valid_q || (hs && last_q);
     assign idle_o        = !valid_q;
     assign swapped_o     = swapped_q;
     assign timer_done_o  = done && k_timer;
@@ -133,73 +145,69 @@ module bsd_pkt_tx #(
     assign m_axis_tlast  = last_q;
 
     always @(posedge clk) begin
-        // valid_q, last_q and credit_q, whose enables would be the deepest
-        // (load || hs || swap, and the reset), take their next values as one
-        // expression each: the handshake then reaches their data inputs, not CEN.
-        // A packet is at least A, N: a load clears last_q; the next byte is
-        // d(N-1) when pos_q reaches N.
-        valid_q <= !rst && (load || (valid_q && !(hs && last_q)));
-        last_q  <= !rst && !load && !swap && (hs ? pos_q == n_q : last_q);
-        // (one expression too) a flush without a swap: finished, credited to nobody
-        credit_q <= !rst && (load || (credit_q && !(flush_i && !swap)));
-        // The packet's registers load only when an item is taken (load): on an
-        // idle clock (free, nothing offered) valid_q stays 0 and they are never
-        // read, so a simulator skips them there (most clocks of a busy session).
-        // (The handshake's branch first: it reads pos_q and the flags that the load's
-        // writes, and a simulator keeps no copy of a flop read before it is written.)
-        if (hs && !free) begin
-            // (the address's byte, then by kind: a simulator works out only the
-            // packet's own source's terms; the flags of the other kinds are 0)
-            if (sel_addr_q)
-                tdata_q <= {4'd0, n_q};
-            else if (k_reply)
-                tdata_q <= rep_next(sel_n_q, sel_rep_q, rep_bytes);
-            else if (k_hb)
-                tdata_q <= when(sel_n_q, CMD_HB) | when(sel_hcmd_q, hb_type_q);
-            else
-                tdata_q <= when(sel_n_q, CMD_DEV_VAL) | when(sel_tcmd_q, {2'b00, id_q}) |
-                           when(sel_tid_q, result_q[15:8]) | when(sel_thi_q, result_q[7:0]);
-            // The next byte's flag (none after a packet's last byte: a reply
-            // has N <= 8, PROTOCOL.md).
-            // (from the chain's end back: each flag is read before it is written)
-            sel_hcmd_q  <= sel_n_q && k_hb;
-            sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && k_reply};
-            sel_thi_q   <= sel_tid_q;
-            sel_tid_q   <= sel_tcmd_q;
-            sel_tcmd_q  <= sel_n_q && k_timer;
-            sel_n_q     <= sel_addr_q;
-            sel_addr_q  <= 1'b0;
-            pos_q   <= pos_q + 4'd1;
-            first_q <= 1'b0;
-        end
-        if (load) begin
-            pos_q    <= 4'd0;
-            n_q      <= n;
-            kind_q   <= kind;
-            idx_q    <= item_data_i[27:22];
-            first_q  <= 1'b1;
-            hb_type_q  <= hb_type_i;
-            id_q     <= item_data_i[21:16];
-            result_q <= item_data_i[15:0];
-            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
-            {sel_rep_q, sel_hcmd_q} <= 8'd0;
-            tdata_q  <= ADDR_OWN;
+        // valid_q, last_q and credit_q take their next values as one expression
+        // each (no enable), written without load: its terms that only matter
+        // in a packet's last clock are folded into the flops' own terms.
+        // (valid_q: load is an item offered, no flush, when idle or on a last handshake)
+        valid_q <= !rst && ((item_valid_i && !flush_i) || (valid_q && !(m_axis_tready && last_q)));
+        // The next byte is d(N-1) when rem_q reaches 0. A packet is at least A, N, so
+        // its first byte is never its last (a swap keeps last_q 0); idle, last_q is 0.
+        last_q  <= !rst && valid_q && (m_axis_tready ? !last_q && rem_q == 4'd0 : last_q);
+        // A flush without a swap: finished, credited to nobody. Set whenever no packet
+        // goes on and on a last handshake, so that a packet starts credited.
+        credit_q <= !rst && (!valid_q || (m_axis_tready && last_q) || (credit_q && !(flush_i && !swap)));
+        // The packet's registers are written only on a step: on an idle clock (nothing
+        // offered) valid_q stays 0 and they are never read, so a simulator skips them
+        // there (most clocks of a busy session).
+        if (step) begin
+            if (mid) begin
+                // (the address's byte, then by kind: a simulator works out only the
+                // packet's own source's terms; the flags of the other kinds are 0)
+                if (sel_addr_q)
+                    tdata_q <= {4'd0, rem_q};
+                else if (k_reply)
+                    tdata_q <= rep_next(sel_n_q, sel_rep_q, rep_bytes);
+                else if (k_hb)
+                    tdata_q <= when(sel_n_q, CMD_HB) | when(sel_hcmd_q, hb_type_q);
+                else
+                    tdata_q <= when(sel_n_q, CMD_DEV_VAL) | when(sel_tcmd_q, {2'b00, id_q}) |
+                               when(sel_tid_q, result_q[15:8]) | when(sel_thi_q, result_q[7:0]);
+                // The next byte's flag (none after a packet's last byte: a reply
+                // has N <= 8, PROTOCOL.md).
+                // (from the chain's end back: each flag is read before it is written)
+                sel_hcmd_q  <= sel_n_q && k_hb;
+                sel_rep_q   <= {sel_rep_q[5:0], sel_n_q && k_reply};
+                sel_thi_q   <= sel_tid_q;
+                sel_tid_q   <= sel_tcmd_q;
+                sel_tcmd_q  <= sel_n_q && k_timer;
+                sel_n_q     <= sel_addr_q;
+                sel_addr_q  <= 1'b0;
+                rem_q   <= rem_q - 4'd1;
+                first_q <= 1'b0;
+            end else begin
+                rem_q    <= n;
+                kind_q   <= kind;
+                idx_q    <= item_data_i[27:22];
+                first_q  <= 1'b1;
+                hb_type_q  <= hb_type_i;
+                id_q     <= item_data_i[21:16];
+                result_q <= item_data_i[15:0];
+                {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
+                {sel_rep_q, sel_hcmd_q} <= 8'd0;
+                tdata_q  <= ADDR_OWN;
+            end
         end
         swapped_q <= swap;
         if (swap) begin
             // The address is on offer already; the rest becomes `2, 0x80, 4`,
             // which the reply slot holds from the next clock.
             kind_q     <= KIND_REPLY;
-            n_q        <= MSG_N[3:0];
+            rem_q      <= MSG_N[3:0];
         end
+        // (the byte registers need no reset: read only while valid_q, and a packet
+        // starts them; the outputs' do, for a simulator's sake)
         if (rst) begin
-            pos_q     <= 4'd0;
-            first_q   <= 1'b0;
             swapped_q <= 1'b0;
-            n_q     <= 4'd0;
-            kind_q  <= 2'd0;
-            {sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q} <= 5'b10000;
-            {sel_rep_q, sel_hcmd_q} <= 8'd0;
             idx_q   <= 6'd0;
             tdata_q <= ADDR_OWN;
         end
