@@ -7,16 +7,19 @@
 // races hold whatever T does; that every timeout is caught in time rests on the scanner's
 // lap (NUM_TIMERS clocks, doubled by starts) against the 60-tick window, and is simulated
 // (tb/bsd_timeout_wheel, tb/brainstem_dio/test_scale.py).
-// Asserted, the races of insert against completion and restart: a timer's bit is never
-// inserted for a start read on the clock of a start of it or the clock before (the read
-// may be the previous run's) or the clock after (stage 3); never for a timer that is not running or already inserted;
-// the clock after a start the timer is neither inserted nor expiring (a wheel bit of an
-// earlier run never counts); expire_o only names inserted timers; an insert never shares
+// Asserted, the races of insert against completion and restart: every fresh in-window read
+// writes its timer's bit, running or not, but a timer is marked inserted only if it is
+// running, and never for a start read on the clock of a start of it or the clock before (the
+// read may be the previous run's) or the clock after (stage 3); no bit is written then
+// either, except on the start's own clock (the previous run's slot, never marked); the clock
+// after a start the timer is neither inserted nor expiring (a wheel bit of an earlier run
+// never counts); expire_o only names inserted timers; an insert never shares
 // the write port with a slot's clearing (the scanner waits instead); an insert sets its
 // timer's bit of the slot and no other, a clearing empties the slot; a timer is marked
 // inserted exactly on the clock after its insert (without the mark its timeout never shows).
     localparam [NUM_TIMERS-1:0] ONE = 1;
-    wire [NUM_TIMERS-1:0] f_ins_now = insert ? (ONE << scan3_q) : NONE;
+    wire [NUM_TIMERS-1:0] f_wr_now  = insert ? (ONE << scan3_q) : NONE;  // the wheel bit written
+    wire [NUM_TIMERS-1:0] f_ins_now = f_wr_now & run_i & ~ins_q;         // the timer marked now
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_tick_q, f_tick2_q;
     reg [NUM_TIMERS-1:0] f_start_q, f_start2_q, f_start3_q;
@@ -47,8 +50,10 @@
         if (f_past_valid && (f_tick_q || f_tick2_q)) assume(!tick_i);
 
         if (f_past_valid && !rst && !f_rst_q) begin
+            // A bit written on its timer's start clock is the previous run's (never marked).
+            assert((f_wr_now & (f_start_q | f_start2_q | f_start3_q)) == NONE);
             assert((f_ins_now & (start_i | f_start_q | f_start2_q | f_start3_q)) == NONE);
-            if (insert) assert(scan3_q < NUM_TIMERS && run_i[scan3_q] && !ins_q[scan3_q]);
+            if (insert) assert(scan3_q < NUM_TIMERS);
             assert((f_start_q & (ins_q | expire_o)) == NONE);
             assert((expire_o & ~ins_q) == NONE);
             assert(!(insert && clear));

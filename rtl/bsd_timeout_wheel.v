@@ -3,10 +3,11 @@
 // Timeouts without a comparator per timer. A measurement times out on the
 // tick that brings T (bsd_timer_bank's tick count) to T_start - 1, 65 535
 // ticks after its start (T is 16 bits). T_start is kept in a block RAM per
-// timer. A background scanner visits one timer per clock, and once a running
+// timer. A background scanner visits one timer per clock, and once a
 // timer's timeout is 3..62 ticks away it sets the timer's bit in slot
 // T_start mod 64 of a wheel (a block RAM of 64 slots, one bit per timer,
-// written through a bit mask) and marks it inserted. After every tick the
+// written through a bit mask) and, if the timer is running, marks it
+// inserted. After every tick the
 // slot of the timers whose timeout is the next tick is read and cleared, so
 // expire_o holds exactly those (masked by inserted) in time for it (ticks
 // are at least 3 clocks apart). A lap of the scanner is NUM_TIMERS clocks (21
@@ -42,14 +43,6 @@ module bsd_timeout_wheel #(
     localparam integer        SW    = NUM_TIMERS > 1 ? $clog2(NUM_TIMERS) : 1;
     localparam [5:0]          SCAN_MASK = 6'h3F >> (6 - SW);
 
-    // A pin vector widened to 64 bits, to be indexed by a 6-bit timer number.
-    function [63:0] pad(input [NUM_TIMERS-1:0] v);
-        begin
-            pad = 64'd0;
-            pad[NUM_TIMERS-1:0] = v;
-        end
-    endfunction
-
     // -------------------------------------------------------- start times
     (* no_rw_check *)  // a read of the address being written is never used (stale_q)
     reg [15:0] st_mem [0:63];
@@ -80,10 +73,14 @@ module bsd_timeout_wheel #(
     reg         win3_q;
     reg         stale3_q;     // or a start on stage 2's clock
     reg  [NUM_TIMERS-1:0] ins_q;  // inserted into the wheel for the current run
-    // Running and not yet inserted: one vector, one mux.
-    wire [63:0] want64   = pad(run_i & ~ins_q);
-    wire        cand     = !stale3_q && win3_q && want64[scan3_q];
-    // The timer inserted now as a one-hot, the insert folded into its block
+    // Every fresh in-window read writes its timer's bit, running or not,
+    // inserted or not: no 64:1 lookup of the timer's state on the write
+    // enable. Only a running timer is marked (ins_q, one gate a timer below),
+    // and expire_o counts only marked timers; an idle timer's bit is the slot
+    // of its last start, read and cleared within 64 ticks, and a new run is
+    // marked 65 473 ticks after its start at the earliest.
+    wire        cand     = !stale3_q && win3_q;
+    // The timer written now as a one-hot, the write folded into its block
     // decode, so that each timer's ins_q bit is one gate.
     wire [NUM_TIMERS-1:0] ins_bit;
     bsd_idx_onehot #(.N(NUM_TIMERS)) u_ins_bit (.en_i(insert), .idx_i(scan3_q), .onehot_o(ins_bit));
@@ -108,14 +105,11 @@ module bsd_timeout_wheel #(
     // that loses waits a clock (the scanner stalls): a lap that is a multiple
     // of the tick pattern's period (64 timers at 2 MHz: 16 clocks) would
     // otherwise meet the clearing clock at the same timers on every lap.
-    // The stall is decided from flops alone (a clearing clock and a fresh
-    // in-window read in stage 3), not from the candidate's lookup of the
-    // timer's state: the scanner's enables (the start RAM's read among them)
-    // then do not wait for that mux. It may stall for a timer that is no
-    // candidate (not running, or inserted): still one stall a tick at most.
+    // The stall and the write are decided from flops alone (a clearing clock
+    // and a fresh in-window read in stage 3): still one stall a tick at most.
     wire                clear  = tick2_q;
     wire                insert = cand && !clear;
-    assign              advance = !(clear && win3_q && !stale3_q);
+    assign              advance = !(clear && cand);
     wire [5:0]          w_addr = clear ? slot_q : slot3_q;
     wire                w_bit  = !clear;
     // The wheel as one RAM per 16 timers (a block RAM's width): an insert
@@ -185,7 +179,7 @@ module bsd_timeout_wheel #(
         stale_q  <= st_q || start_any_i || (!advance && stale_q);
         // The insert's decoder only on an insert's clock (ins_bit is zero on the others), so
         // that a simulator works it out only then.
-        ins_q    <= ((insert ? ins_q | ins_bit : ins_q) & ~start_i);
+        ins_q    <= ((insert ? ins_q | (ins_bit & run_i) : ins_q) & ~start_i);
         tick1_q  <= tick_i;
         tick2_q  <= tick1_q;
         if (tick_i) slot_q <= next_slot;
