@@ -6,8 +6,9 @@
 // free. Asserted (PROTOCOL.md §2, §5): m_axis obeys AXI-Stream (tvalid held until taken,
 // tdata and tlast unchanged while stalled); every packet is `A, N, ..` with tlast exactly
 // on byte N + 1 (N as the item's source gives it); one item per packet: an item is taken
-// only on a clock with no byte left to send but the last one's handshake; the source's
-// done comes exactly with its packet's last handshake.
+// only on a clock with no byte left to send but the last one's handshake, and free_o (the
+// output queue's pop) says exactly that; the source's done comes exactly with its packet's
+// last handshake.
     reg        f_past_valid = 1'b0;
     reg        f_rst_q, f_iv_q, f_ir_q, f_mv_q, f_mr_q, f_ml_q;
     reg [29:0] f_id_q;
@@ -98,6 +99,7 @@
                 assert({sel_addr_q, sel_n_q, sel_tcmd_q, sel_tid_q, sel_thi_q, sel_rep_q, sel_hcmd_q} == f_sel);
             end
             if (item_ready_o) assert(!f_busy || (f_hs && m_axis_tlast));
+            assert(free_o == (!f_busy || (f_hs && m_axis_tlast)));  // the output queue's pop
             assert((timer_done_o || reply_done_o || hb_done_o) == (f_hs && m_axis_tlast));
             if (f_hs && m_axis_tlast)
                 assert(timer_done_o == (f_kind == 2'd0) && reply_done_o == (f_kind == 2'd1) &&

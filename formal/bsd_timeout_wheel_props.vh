@@ -52,7 +52,7 @@
         if (f_past_valid && !rst && !f_rst_q) begin
             // A bit written on its timer's start clock is the previous run's (never marked).
             assert((f_wr_now & (f_start_q | f_start2_q | f_start3_q)) == NONE);
-            assert((f_ins_now & (start_i | f_start_q | f_start2_q | f_start3_q)) == NONE);
+            assert((ins_q & ~f_insreg_q & ~f_run_q) == NONE);  // a mark only while running
             if (insert) assert(scan3_q < NUM_TIMERS);
             assert((f_start_q & (ins_q | expire_o)) == NONE);
             assert((expire_o & ~ins_q) == NONE);

@@ -38,8 +38,8 @@ module bsd_drain #(
     // no gate on the pick's enable, the iCEBreaker top's critical path).
     parameter integer        DIO_ID_LO     = 0,
     parameter integer        DIO_ID_HI     = 63,
-    // Above 16 timers the pick works in groups of this many (below); the
-    // proof sets 4, so that a few timers make several groups.
+    // Above 16 timers the pick works in groups of this many (below; at least
+    // 1); the proof sets 4, so that a few timers make several groups.
     parameter integer        PICK_GROUP    = 16
 ) (
     input  wire                       clk,
@@ -120,9 +120,10 @@ module bsd_drain #(
     // picks and enables do not wait for an OR over the timers.
     reg                 any_t_q;
     wire                any_t  = any_t_q;
-    // The pick is functions of the entry's flops called in the clocked block
-    // on a clock with an item (not next), not wires: a simulator then works
-    // it out only there, not on every clock (synthesis: the same gates).
+    // Up to PICK_GROUP timers the pick is functions of the entry's flops
+    // called in the clocked block on a clock with an item (not next), not
+    // wires: a simulator then works it out only there, not on every clock
+    // (synthesis: the same gates). Above, it is the wire low_grp (below).
     // v & ~(v - 1), not v & (~v + 1): the carry chain takes v itself, not an
     // inverter per bit (iCE40's carry has no inverted input). Up to 8 timers:
     // a priority chain, smaller still and a few steps in simulation (at 16
@@ -168,6 +169,12 @@ module bsd_drain #(
             assign low_grp = {NT{1'b0}};  // never read
         end
     endgenerate
+    // The pick of rem_q (r), for step() and the proof.
+    function [NT-1:0] pick(input [NT-1:0] r);
+        begin
+            pick = NT > GS ? low_grp : lowest(r);
+        end
+    endfunction
     // The pick up to PICK_GROUP timers.
     function [NT-1:0] lowest(input [NT-1:0] v);
         integer t;
@@ -257,7 +264,7 @@ module bsd_drain #(
         reg [NT-1:0] low;
         reg rank_t, dio_first, two_t, take_t, more;
         begin
-            low       = NT > GS ? low_grp : lowest(r);  // (r is rem_q, as in every call)
+            low       = pick(r);  // (r is rem_q, as in every call)
             rank_t    = |(r & ranks_of(dio_id_q));
             dio_first = dio_q && !rank_t;
             two_t     = |(r & ~low);
@@ -273,7 +280,7 @@ module bsd_drain #(
     endfunction
 `ifdef FORMAL
     wire [NT-1:0]       rem    = rem_q;
-    wire [NT-1:0]       low    = NT > GS ? low_grp : lowest(rem);
+    wire [NT-1:0]       low    = pick(rem);
     wire [NT-1:0]       ranks  = ranks_of(dio_id_q);
     wire [NT+3:0]       f_unused_next;
     wire                f_last, take_t, take_dio, take_rep, take_hb;

@@ -14,12 +14,13 @@
 // ticks at 2 MHz and 64 timers), well inside the 60-tick window, so every
 // timeout is seen in time.
 //
-// Races: a start clears the timer's inserted bit (a wheel bit of an earlier
+// Races: a start clears the timer's inserted mark (a wheel bit of an earlier
 // run then never counts), and a scan that may have read the start of a
 // previous run (any start on the scan's read clock or the clock before: a
-// lap then takes at most twice as long) does not insert. The wheel needs no
-// clearing after reset: every slot is read and cleared within 64 ticks,
-// long before any timer can be inserted (62 ticks before its timeout).
+// lap then takes at most twice as long) neither writes nor marks. The wheel
+// needs no clearing after reset: every slot is read and cleared within 64
+// ticks, long before any timer can be marked (62 ticks before its timeout,
+// 65 473 ticks after its start).
 module bsd_timeout_wheel #(
     parameter integer NUM_TIMERS = 4
 ) (
@@ -67,7 +68,7 @@ module bsd_timeout_wheel #(
     wire        in_win   = !hi_nz[16] && ahead[5:2] != 4'd0;
     wire        unused_ahead = ^{ahead[1:0], hi_nz[15:0]};
     // Stage 3: the window test registered (the 16-bit subtraction stays off
-    // the write port); the timer's state is tested now.
+    // the write port); the timer's running bit only gates its mark (ins_q).
     reg  [5:0]  scan3_q;
     reg  [5:0]  slot3_q;      // T_start mod 64: the wheel slot
     reg         win3_q;
@@ -155,10 +156,11 @@ module bsd_timeout_wheel #(
         end
     endgenerate
 
-    // A start after the slot was read drops the timer's bit (a new run). A
-    // bit left in the slot by an earlier run never meets a new insertion: a
-    // slot is read within 64 ticks, a run is inserted 65 473 ticks after its
-    // start at the earliest; and the slot read is never the one inserted into.
+    // A start after the slot was read drops the timer's mark (a new run). A
+    // bit left in a slot by an earlier run or an idle timer never meets a new
+    // mark: a slot is read and cleared within 64 ticks, a run is marked 65 473
+    // ticks after its start at the earliest; and the slot read is never the
+    // one written.
     assign expire_o = expire_q & ins_q;
 
     always @(posedge clk) begin

@@ -75,10 +75,12 @@ class WheelTB(ClockedTB):
 
 
 # A long run simulates the ticks near its events only: T (an input here) jumps ahead while no
-# timer is within MARGIN ticks of its timeout (none is in the wheel: a timer goes in 62 ticks
+# timer is within MARGIN ticks of its timeout (none is marked: a running timer is marked 62 ticks
 # before) and 100 ticks have passed since the last start, finish or timeout or a pending start. The core's T never jumps, so the wheel
 # reads every slot once in 64 ticks; the last condition keeps that for the slots a jump would
 # skip: a finished run's bit (due at most 60 ticks after its finish) has been read and cleared.
+# An idle timer's bit (written near its last start's T, mod 65 536) may outlive a jump, but a
+# mark follows at least MARGIN - 62 ticks without a jump, in which every slot is read and cleared.
 MARGIN = 150
 
 
