@@ -169,12 +169,6 @@ module bsd_drain #(
             assign low_grp = {NT{1'b0}};  // never read
         end
     endgenerate
-    // The pick of rem_q (r), for step() and the proof.
-    function [NT-1:0] pick(input [NT-1:0] r);
-        begin
-            pick = NT > GS ? low_grp : lowest(r);
-        end
-    endfunction
     // The pick up to PICK_GROUP timers.
     function [NT-1:0] lowest(input [NT-1:0] v);
         integer t;
@@ -264,7 +258,7 @@ module bsd_drain #(
         reg [NT-1:0] low;
         reg rank_t, dio_first, two_t, take_t, more;
         begin
-            low       = pick(r);  // (r is rem_q, as in every call)
+            low       = NT > GS ? low_grp : lowest(r);  // (r is rem_q, as in every call)
             rank_t    = |(r & ranks_of(dio_id_q));
             dio_first = dio_q && !rank_t;
             two_t     = |(r & ~low);
@@ -280,7 +274,7 @@ module bsd_drain #(
     endfunction
 `ifdef FORMAL
     wire [NT-1:0]       rem    = rem_q;
-    wire [NT-1:0]       low    = pick(rem);
+    wire [NT-1:0]       low    = NT > GS ? low_grp : lowest(rem);  // as in step()
     wire [NT-1:0]       ranks  = ranks_of(dio_id_q);
     wire [NT+3:0]       f_unused_next;
     wire                f_last, take_t, take_dio, take_rep, take_hb;
