@@ -23,11 +23,14 @@ import runner
 from runner import hdl_params
 
 # gp1: GP 1.0's timers (pins 1-4, IDs 11-14, consecutive); sparse: timers on pins 1, 2, 5
-# and 7 of 8, IDs 4, 5, 8, 10 (the ID table), so DIG_IO IDs fall between timer IDs; wide:
-# 20 timers on 24 pins, with gaps, so the pick works over groups of timers (16 and 4).
+# and 7 of 8, IDs 4, 5, 8, 10 (the ID table), so DIG_IO IDs fall between timer IDs; mid: 12
+# timers on 16 pins, with gaps, so the pick is one carry chain (9 to 16 timers: core16t's
+# form); wide: 20 timers on 24 pins, with gaps, so the pick works over groups of timers (16
+# and 4).
 BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "TIMER_ID_BASE": 10, "NT": 4},
     "sparse": {"NUM_PINS": 8, "TIMER_MASK": "8'b10100110", "TIMER_ID_BASE": 3, "NT": 4},
+    "mid": {"NUM_PINS": 16, "TIMER_MASK": "16'b1101111011101110", "TIMER_ID_BASE": 3, "NT": 12},
     "wide": {"NUM_PINS": 24, "TIMER_MASK": "24'b111011111101111101111110", "TIMER_ID_BASE": 3, "NT": 20},
 }
 TIMER, REPLY, HB = 0, 1, 2
