@@ -369,8 +369,11 @@ module bsd_exec #(
                                  io_r_q ? (in ? {2'b00, dev_id_q} : MSG_CMD_INDEX_ERR) :
                                  pt_q   ? (!in ? MSG_CMD_INDEX_ERR :
                                            started_q ? MSG_CMD_TOO_LONG : MSG_TMR_CONFLICT) :
-                                 idx_err_q ? MSG_CMD_INDEX_ERR : cfgerr_q ? MSG_CONFIG_ERR :
-                                 tl_q   ? MSG_CMD_TOO_LONG : b1_q;
+                                 // (configErr and cmdTooLong come only with b1_q zero, so they
+                                 // are ORed in; cmdIndexErr can come with b1_q = d1, a DIG_CFG
+                                 // read of a pin beyond the last)
+                                 (idx_err_q ? MSG_CMD_INDEX_ERR : b1_q) |
+                                     ({8{cfgerr_q}} & MSG_CONFIG_ERR) | ({8{tl_q}} & MSG_CMD_TOO_LONG);
     // The DIG_CFG read's DIGCFG bits 4:1 of the pin (sel_q) are looked up
     // here, not in stage 1 (only the reply needs them): an AND-OR over the
     // pins with a select that comes from flops takes about half the LUTs of
