@@ -134,7 +134,7 @@ module bsd_exec #(
     // called only in the branch of a packet's clock (and of reset): a
     // simulator decodes a packet on its clock only, where wires would be
     // worked out every clock; synthesis gives the same gates either way.
-    localparam integer DW = 30 + 3 * NUM_PINS + 17;
+    localparam integer DW = 33 + 3 * NUM_PINS + 17;
     function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1,
                              input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] level,
                              input [NUM_PINS-1:0] busy);
@@ -144,7 +144,7 @@ module bsd_exec #(
         reg [NUM_PINS-1:0] sel;
         reg                look_level, look_in, sel_fixed, sel_timer;
         reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
-        reg                serial, probe, long;
+        reg                serial, probe, long, cfg_rd_n;
         reg [7:0]          b0, b1;
         reg [3:0]          rn;
         begin
@@ -212,15 +212,23 @@ module bsd_exec #(
             // Longest forms: DIG_CFG and DIG_IO take 3 bytes, DIG_RST and PTIME_RD 2.
             long    = (d0_cfg || d0_io) ? |n[3:2] : n_ge3;
 
-            b0 = probe ? 8'd0 : cfg_rd ? CMD_DIG_CFG : dbg ? CMD_DEBUG : CMD_MSG;
-            b1 = (cfg_rd || dbg) ? d1 :
+            // b0, b1 and rn take only what the kind, command and N tell (a
+            // DIG_CFG read's form counted as a read here): the outcomes that
+            // need d1's pin (cfg_rd, idx_err, cfgerr, cfg_w || rst_w) go to
+            // stage 2 as flags of their own, which override these bytes
+            // there, so that the pin's checks are not in series with the
+            // bytes' muxes on stage 1's clock. They are exclusive (d0 is
+            // one-hot), and whenever one is set the bytes' other terms are
+            // zero or overridden.
+            cfg_rd_n = is_cmd && d0_cfg && n2;   // cfg_rd before the pin's check
+            b0 = probe ? 8'd0 : dbg ? CMD_DEBUG : CMD_MSG;
+            b1 = (cfg_rd_n || dbg) ? d1 :
                  ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
-                 ({8{m_short}} & MSG_CMD_TOO_SHORT) | ({8{cfgerr}}  & MSG_CONFIG_ERR) |
-                 ({8{idx_err}} & MSG_CMD_INDEX_ERR) |
-                 ({8{cfg_w || rst_w}} & MSG_CMD_TOO_LONG);
-            rn = probe ? 4'd0 : cfg_rd ? 4'd3 : dbg ? n : MSG_N[3:0];
+                 ({8{m_short}} & MSG_CMD_TOO_SHORT);
+            rn = probe ? 4'd0 : dbg ? n : MSG_N[3:0];
 
-            stage1 = {b0, b1, rn, long, PIN_ID_W + dev_pin, look_in, look_level, sel_fixed, sel,
+            stage1 = {b0, b1, rn, idx_err, cfgerr, cfg_w || rst_w,
+                      long, PIN_ID_W + dev_pin, look_in, look_level, sel_fixed, sel,
                       TIMER_NUM[6*dev_pin +: 6],
                       // the flags, cleared on a clock without a packet
                       probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
@@ -267,6 +275,7 @@ module bsd_exec #(
     reg                known_q;       // a reply the packet alone decides
     reg [7:0]          b0_q, b1_q;    // its first two bytes
     reg [3:0]          rn_q;          // and its N
+    reg                idx_err_q, cfgerr_q, tl_q;  // cmdIndexErr, configErr, cmdTooLong by d1's pin
     reg                io_w_q;        // a DIG_IO write to a good pin: cmdIndexErr if an input
     reg                io_r_q;        // a DIG_IO read of a good pin: cmdIndexErr unless an input
     reg                pt_q;          // a PTIME_RD of a timer pin: cmdIndexErr unless an input,
@@ -293,7 +302,7 @@ module bsd_exec #(
     always @(posedge clk) begin
         s2_valid_q <= pkt_valid_i;
         if (pkt_valid_i || rst) begin
-            {b0_q, b1_q, rn_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
+            {b0_q, b1_q, rn_q, idx_err_q, cfgerr_q, tl_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
              hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i,
                                                       cfg_i[IODIR*NUM_PINS +: NUM_PINS], level_i,
@@ -354,13 +363,17 @@ module bsd_exec #(
     assign s2_valid_o   = s2_valid_q;
     assign reply_o      = known_q || (io_w_q && (in || long_q)) || (io_r_q && (!in || dev_host)) ||
                           (pt_q && (!in || !started_q || long_q));
-    assign reply_n_o    = io_r_q ? (in ? 4'd3 : MSG_N[3:0]) : rn_q;
-    assign reply_data_o[31:24] = io_r_q ? (in ? CMD_DEV_VAL : CMD_MSG) : b0_q;
+    assign reply_n_o    = io_r_q ? (in ? 4'd3 : MSG_N[3:0]) : cfg_rd_q ? 4'd3 : rn_q;
+    assign reply_data_o[31:24] = io_r_q ? (in ? CMD_DEV_VAL : CMD_MSG) : cfg_rd_q ? CMD_DIG_CFG : b0_q;
     assign reply_data_o[23:16] = io_w_q ? (in ? MSG_CMD_INDEX_ERR : MSG_CMD_TOO_LONG) :
                                  io_r_q ? (in ? {2'b00, dev_id_q} : MSG_CMD_INDEX_ERR) :
                                  pt_q   ? (!in ? MSG_CMD_INDEX_ERR :
                                            started_q ? MSG_CMD_TOO_LONG : MSG_TMR_CONFLICT) :
-                                 b1_q;
+                                 // (configErr and cmdTooLong come only with b1_q zero, so they
+                                 // are ORed in; cmdIndexErr can come with b1_q = d1, a DIG_CFG
+                                 // read of a pin beyond the last)
+                                 (idx_err_q ? MSG_CMD_INDEX_ERR : b1_q) |
+                                     ({8{cfgerr_q}} & MSG_CONFIG_ERR) | ({8{tl_q}} & MSG_CMD_TOO_LONG);
     // The DIG_CFG read's DIGCFG bits 4:1 of the pin (sel_q) are looked up
     // here, not in stage 1 (only the reply needs them): an AND-OR over the
     // pins with a select that comes from flops takes about half the LUTs of
