@@ -192,9 +192,10 @@ module bsd_exec #(
             // for each).
 
             // The reply, decided as far as the packet alone tells; stage 2 adds
-            // only what the pin's IODIR and its timer's start decide, in a gate
-            // or two between flops and the reply slot. A reply's bytes past its
-            // N are never sent, so they are left as they fall.
+            // what the pin's IODIR and its timer's start decide, and the
+            // outcomes of d1's pin checks (flags, below), in a gate or two
+            // between flops and the reply slot. A reply's bytes past its N are
+            // never sent, so they are left as they fall.
             cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
