@@ -3,8 +3,9 @@
 // Assumed, as bsd_parser hands packets over: reset on the first clock; packets at least three
 // clocks apart (the header's comment-only invariant; in simulation the block checks it);
 // kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_cmd_i the flags of a free
-// d0 byte (f_pkt_d0), as bsd_parser decodes it (its props prove it); pkt_tail_i unchanged on the
-// clock after pkt_valid_i (the parser writes no data byte before the clock after stage 2).
+// d0 byte (f_pkt_d0), as bsd_parser decodes it, and pkt_sel_i d1's pin one-hot on every clock
+// (its props prove both); pkt_d1_i and pkt_tail_i unchanged on the clock after pkt_valid_i (the
+// parser writes no data byte before the clock after stage 2).
 // cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock
 // (cfg_i is unchanged on the clock after: stage 2 looks up a DIG_CFG read's bits 4:1).
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
@@ -136,6 +137,7 @@
     end
 
     integer f_i;
+    localparam [NUM_PINS-1:0] f_one = 1;
     always @(*) begin
         if (!f_past_valid) assume(rst);
         // Packets at least three clocks apart, as the parser hands them over.
@@ -146,7 +148,8 @@
             if (pkt_kind_i == KIND_CMD) assume(pkt_n_i >= 4'd1 && pkt_n_i <= 4'd8);
             if (pkt_kind_i == KIND_PROBE) assume(pkt_n_i == 4'd0);
         end
-        if (f_s2) assume(pkt_tail_i == f_tail);
+        if (f_s2) assume(pkt_tail_i == f_tail && pkt_d1_i == f_d1);
+        assume(pkt_sel_i == f_one << pkt_d1_i[5:0]);
         // Only this block's stage 2 writes cfg_i (through bsd_cfg_regs), from the clock after it.
         if (f_s2) assume(cfg_i == f_cfg);
 

@@ -12,6 +12,8 @@
 //   pkt_valid_o never follows a clock with hold_i 1 or with pkt_valid_o, nor comes with
 //   s_axis_tready waiting for hold_i (so the top's hold_i need not include pkt_valid_o:
 //   bsd_reply_slot assumes packets at least two clocks apart);
+// - pkt_sel_o is pkt_d1_o's bits 5:0 as a one-hot over NUM_PINS pins (0 past the last) on
+//   every clock after the first load (they load together; bsd_exec's props assume it);
 // - pkt_cmd_o is pkt_d0_o's command flags, from the second clock after reset on (the two
 //   load together; the first load comes on the clock after reset, which sets every slot);
 // - from any reachable state, at most 10 bytes (address included) or TIMEOUT_TICKS idle
@@ -41,6 +43,7 @@
     reg  [3:0]  f_nb;
     reg  [3:0]  f_tk;
     reg         f_ld = 1'b0;  // pkt_d0_q and pkt_cmd_q have been loaded
+    reg         f_ld1 = 1'b0; // pkt_d1_q and pkt_sel_q have been loaded
     wire [6:0]  f_cmdf = {pkt_d0_o == CMD_PTIME_RD, pkt_d0_o == CMD_DIG_RST, pkt_d0_o == CMD_DIG_IO,
                           pkt_d0_o == CMD_DIG_CFG, pkt_d0_o == CMD_RESET, pkt_d0_o == CMD_DEBUG,
                           pkt_d0_o == CMD_HB};
@@ -59,6 +62,7 @@
         f_hold_q <= hold_i;
         f_pv_q   <= pkt_valid_o && !rst;
         if (pos_q[0]) f_ld <= 1'b1;
+        if (pos_q[1]) f_ld1 <= 1'b1;
         f_exp <= 1'b0;
         if (f_pend && !hold_i) begin
             f_pend <= 1'b0;
@@ -121,6 +125,7 @@
             assume(s_axis_tvalid);
             assume(s_axis_tdata == f_sd_q);
         end
+        if (f_ld1) assert(pkt_sel_o == SEL_ONE << pkt_d1_o[5:0]);
         if (f_past_valid && !f_rst_q) begin
             // Handover: exactly the reference's packets, with their kind, N and bytes.
             assert(pkt_valid_o == f_exp);

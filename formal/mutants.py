@@ -117,6 +117,13 @@ MUTANTS = [
      "cfg_w   = c_cfg && pin_ok && !sel_fixed;", "cfg_w   = c_cfg && pin_ok;"),
     ("bsd_exec", "prove_t2", "bsd_exec.v", "the timer numbers counted from 1: a start names the next timer",
      "num = 6'h3F;  // the pin before pin 0", "num = 6'h00;"),
+    ("bsd_exec", "prove_t2", "bsd_exec.v",
+     "a PTIME_RD of an input pin without a timer answers tmrConflict, not cmdIndexErr",
+     "sel_timer  = &TIMER_MASK ? dev_ok : |(sel & TIMER_MASK);", "sel_timer  = &TIMER_MASK ? dev_ok : |sel;"),
+    ("bsd_exec", "prove", "bsd_exec.v", "a start ignores the timer's busy bit: a running timer restarts",
+     "|(in & sel & TIMER_MASK) && !(|(busy & sel & TIMER_MASK))", "|(in & sel & TIMER_MASK)"),
+    ("bsd_parser", "prove", "bsd_parser.v", "d1's one-hot from bits 4:0: a DEVCODE pin of 32 or more names a pin",
+     "pkt_sel_q <= SEL_ONE << s_axis_tdata[5:0];", "pkt_sel_q <= SEL_ONE << s_axis_tdata[4:0];"),
 ]
 
 

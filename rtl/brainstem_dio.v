@@ -237,10 +237,11 @@ module brainstem_dio #(
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
     wire [7:0] pkt_d0, pkt_d1, pkt_d2;
+    wire [NUM_PINS-1:0] pkt_sel;
     wire [7:0] pkt_cmd;
     wire [39:0] pkt_tail;
 
-    bsd_parser #(.MODULE_ADDR(MODULE_ADDR), .RX_TIMEOUT_US(RX_TIMEOUT_US)) u_parser (
+    bsd_parser #(.MODULE_ADDR(MODULE_ADDR), .RX_TIMEOUT_US(RX_TIMEOUT_US), .NUM_PINS(NUM_PINS)) u_parser (
         .clk           (clk),
         .rst           (rst),
         .tick_i        (tick),
@@ -254,6 +255,7 @@ module brainstem_dio #(
         .pkt_d0_o      (pkt_d0),
         .pkt_cmd_o     (pkt_cmd),
         .pkt_d1_o      (pkt_d1),
+        .pkt_sel_o     (pkt_sel),
         .pkt_d2_o      (pkt_d2),
         .pkt_tail_o    (pkt_tail)
     );
@@ -296,6 +298,7 @@ module brainstem_dio #(
         .pkt_n_i         (pkt_n),
         .pkt_cmd_i       (pkt_cmd),
         .pkt_d1_i        (pkt_d1),
+        .pkt_sel_i       (pkt_sel),
         .pkt_d2_i        (pkt_d2),
         .pkt_tail_i      (pkt_tail),
         .cfg_i           (cfg),

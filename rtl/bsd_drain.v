@@ -333,15 +333,19 @@ module bsd_drain #(
     // iCEBreaker top's critical path), with no clock added. A reference is
     // written in stage A and a finish of the same timer is picked from a later
     // entry, two clocks after at the earliest (one idle clock between
-    // entries): it reads the reference written.
+    // entries): it reads the reference written. Every timer item writes its
+    // T, not only a reference, so that the write enable is a flop (a_t_q),
+    // not the entry's r and f bits looked up by a_k_q (the iCEBreaker top's
+    // critical path on two seeds of five): a finish or a timeout has read
+    // its reference on its pick's clock, before its own write, and the
+    // timer's next run writes a reference of its own before it can finish
+    // (a run starts only after the last one's result is delivered).
     (* no_rw_check *)  // a reference is read at the earliest a clock after it is written
     reg [15:0] ref_mem [0:63];
     reg [15:0] ref_rd_q;
     reg [NT+14:0] step_v;  // the pick's step, read only on its clock (below)
     always @(posedge clk) begin
-        if (a_t_q) begin
-            if (at(r_q) && !at(f_q)) ref_mem[a_k_q] <= t_q;
-        end
+        if (a_t_q) ref_mem[a_k_q] <= t_q;
     end
 
     // T - reference as T + ~reference + 1: iCE40's carry chain takes its

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // Executes one packet from the parser in two clocks. The first looks up the
-// addressed pin's state (an AND-OR over the pins on many-pin builds),
+// addressed pin's state (an AND-OR over the pins with the pin's one-hot,
+// which the parser registers with d1, so that no decoder of d1 is in series
+// with the lookups and the strobes' clears),
 // decides the state changes (configuration and output writes, re-arms, timer
 // starts, the heartbeat answer) into registers, so that those strobes leave
 // this module straight from flops, and decides the reply as far as the
@@ -11,9 +13,10 @@
 // IODIR and its timer's start decide (and a DIG_CFG read's other DIGCFG
 // bits, looked up there), and whether a DIG_IO read sends its value on
 // RFLX. Packets come at least three clocks apart, so the stages never
-// overlap. cmdDEBUG's echo takes d3..d7 straight from the parser's
-// registers in stage 2: the parser writes no data byte before the clock
-// after stage 2, when the reply slot has taken them. The decision goes to
+// overlap. cmdDEBUG's echo takes d3..d7, and the strobes' pin (pin_sel_o)
+// its one-hot, straight from the parser's registers in stage 2: the parser
+// writes no data byte before the clock after stage 2, when the reply slot
+// has taken them. The decision goes to
 // bsd_reply_slot, which holds the waiting reply and the waiting DIG_IO RFLX
 // value and tells the parser when to hold.
 module bsd_exec #(
@@ -30,6 +33,7 @@ module bsd_exec #(
     input  wire [3:0]            pkt_n_i,
     input  wire [7:0]            pkt_cmd_i,     // d0 decoded (bsd_parser's pkt_cmd_o)
     input  wire [7:0]            pkt_d1_i,
+    input  wire [NUM_PINS-1:0]   pkt_sel_i,     // d1's bits 5:0 one-hot (bsd_parser's pkt_sel_o)
     input  wire [7:0]            pkt_d2_i,
     input  wire [39:0]           pkt_tail_i,    // d3..d7 (cmdDEBUG)
     // pin state
@@ -127,24 +131,23 @@ module bsd_exec #(
     localparam [64*6-1:0] TIMER_NUM = timer_table(0);
 
     // ------------------------------ stage 1: pin lookup and decisions
-    localparam [NUM_PINS-1:0] ONE = 1;
 
     // Stage 1 decides everything about a packet at once, as one vector (the
     // flops it loads are listed below, in its order). It is a function,
     // called only in the branch of a packet's clock (and of reset): a
     // simulator decodes a packet on its clock only, where wires would be
     // worked out every clock; synthesis gives the same gates either way.
-    localparam integer DW = 33 + 3 * NUM_PINS + 17;
+    localparam integer DW = 33 + 2 * NUM_PINS + 17;
     function [DW-1:0] stage1(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1,
-                             input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] level,
+                             input [NUM_PINS-1:0] sel, input [NUM_PINS-1:0] in,
+                             input [NUM_PINS-1:0] level,
                              input [NUM_PINS-1:0] busy);
         reg [5:0]          dev_pin;
         reg                is_cmd, d0_cfg, d0_io, d0_rst, d0_time, d0_dbg, d0_hb, d0_rset, d0_dig;
-        reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_out, c_rst, c_time;
-        reg [NUM_PINS-1:0] sel;
+        reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_cfg_r, c_out, c_rst, c_time;
         reg                look_level, look_in, sel_fixed, sel_timer;
         reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
-        reg                serial, probe, long, cfg_rd_n;
+        reg                serial, probe, long;
         reg [7:0]          b0, b1;
         reg [3:0]          rn;
         begin
@@ -169,22 +172,25 @@ module bsd_exec #(
             pin_ok  = below(d1, NUM_PINS_W);
             dev_ok  = below({2'b00, dev_pin}, NUM_PINS_W);
             c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
+            c_cfg_r = is_cmd && d0_cfg && n2;       // a DIG_CFG read
             c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
             c_rst   = is_cmd && d0_rst && n_ge2;
             c_time  = is_cmd && d0_time && n_ge2;
 
-            // The addressed pin as a one-hot; no line is set for a pin beyond
-            // NUM_PINS - 1. A `pin` byte must match whole (bits 7:6 zero); a
-            // DEVCODE's pin is its bits 5:0. The pin's IODIR, level and busy
-            // bit are picked with the one-hot by an AND-OR (the DIG_CFG read's
-            // other bits in stage 2).
-            sel = ONE << dev_pin;
+            // The addressed pin as a one-hot (sel, from the parser's flops);
+            // no line is set for a pin beyond NUM_PINS - 1. A `pin` byte must
+            // match whole (bits 7:6 zero); a DEVCODE's pin is its bits 5:0.
+            // The pin's IODIR, level and busy bit are picked with the one-hot
+            // by an AND-OR (the DIG_CFG read's other bits in stage 2).
 
             // The addressed pin's state; zero for a pin beyond the last.
             look_level = |(level & sel);
             look_in    = |(in & sel);
             sel_fixed  = |(sel & FIXED_MASK);
-            sel_timer  = |(sel & TIMER_MASK);
+            // (with a timer on every pin, that is "a pin at all": dev_ok, which is
+            // cheap, where the OR over sel is not, synthesis not knowing sel
+            // is zero exactly for a pin beyond the last)
+            sel_timer  = &TIMER_MASK ? dev_ok : |(sel & TIMER_MASK);
 
             // The state changes are decided once, from the lookup, not per
             // pin: the pins see them as the registered one-hot and a strobe
@@ -199,14 +205,14 @@ module bsd_exec #(
             cfg_w   = c_cfg && pin_ok && !sel_fixed;   // a DIG_CFG write that writes
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
-            start   = starts(kind, n[3:1], cmd, dev_pin, in, busy);
-            idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (is_cmd && d0_cfg && n2 && !pin_ok) ||
+            start   = starts(kind, n[3:1], cmd, sel, in, busy);
+            idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (c_cfg_r && !pin_ok) ||
                       (is_cmd && d0_io && n2 && !dev_ok) ||
                       (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
             m_inv   = is_cmd && !cmd[CMDF_ANY];
             m_short = is_cmd && d0_dig && n1;
             cfgerr  = c_cfg && pin_ok && sel_fixed;
-            cfg_rd  = is_cmd && d0_cfg && n2 && pin_ok;
+            cfg_rd  = c_cfg_r && pin_ok;
             dbg     = is_cmd && d0_dbg;
             serial  = kind == KIND_SERIAL;
             probe   = kind == KIND_PROBE;
@@ -221,15 +227,14 @@ module bsd_exec #(
             // bytes' muxes on stage 1's clock. They are exclusive (d0 is
             // one-hot), and whenever one is set the bytes' other terms are
             // zero or overridden.
-            cfg_rd_n = is_cmd && d0_cfg && n2;   // cfg_rd before the pin's check
             b0 = probe ? 8'd0 : dbg ? CMD_DEBUG : CMD_MSG;
-            b1 = (cfg_rd_n || dbg) ? d1 :
+            b1 = (c_cfg_r || dbg) ? d1 :
                  ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
                  ({8{m_short}} & MSG_CMD_TOO_SHORT);
             rn = probe ? 4'd0 : dbg ? n : MSG_N[3:0];
 
             stage1 = {b0, b1, rn, idx_err, cfgerr, cfg_w || rst_w,
-                      long, PIN_ID_W + dev_pin, look_in, look_level, sel_fixed, sel,
+                      long, PIN_ID_W + dev_pin, look_in, look_level, sel_fixed,
                       TIMER_NUM[6*dev_pin +: 6],
                       // the flags, cleared on a clock without a packet
                       probe || serial || m_inv || m_short || cfgerr || idx_err || cfg_rd || dbg ||
@@ -251,24 +256,23 @@ module bsd_exec #(
     // Whether the packet re-arms its pin (cfg_w || rst_w above), for the
     // re-arm strobes' clear: an if, not an AND per pin, so that synthesis
     // gives the condition all pins share to the flops' synchronous reset.
-    function rearms(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1);
+    function rearms(input [1:0] kind, input [3:0] n, input [7:0] cmd, input [7:0] d1,
+                    input [NUM_PINS-1:0] sel);
         begin
             rearms = kind == KIND_CMD && below(d1, NUM_PINS_W) &&
-                     ((cmd[CMDF_DIG_CFG] && (|n[3:2] || &n[1:0]) && !(|((ONE << d1[5:0]) & FIXED_MASK))) ||
+                     ((cmd[CMDF_DIG_CFG] && (|n[3:2] || &n[1:0]) && !(|(sel & FIXED_MASK))) ||
                       (cmd[CMDF_DIG_RST] && |n[3:1]));
         end
     endfunction
 
     // Whether the packet starts its pin's timer: stage 1's `start`, and the
     // start strobes' clear, as rearms() is the re-arm strobes': the strobes
-    // then load the pin's one-hot line that sel_q loads too, and the start
-    // is their shared synchronous clear, not an AND a timer.
-    function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [5:0] dev_pin,
+    // then load the pin's one-hot line, and the start is their shared
+    // synchronous clear, not an AND a timer.
+    function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [NUM_PINS-1:0] sel,
                     input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] busy);
-        reg [NUM_PINS-1:0] sel;
         begin
-            sel    = (ONE << dev_pin) & TIMER_MASK;
-            starts = kind == KIND_CMD && cmd[CMDF_PTIME_RD] && |n[3:1] && |(in & sel) && !(|(busy & sel));
+            starts = kind == KIND_CMD && cmd[CMDF_PTIME_RD] && |n[3:1] && |(in & sel & TIMER_MASK) && !(|(busy & sel & TIMER_MASK));
         end
     endfunction
 
@@ -292,7 +296,7 @@ module bsd_exec #(
     reg                pin_level_q, pin_fixed_q;
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q;
-    reg [NUM_PINS-1:0] sel_q, start_q;
+    reg [NUM_PINS-1:0] start_q;
     reg [5:0]          tidx_q;        // the packet pin's timer number
 
     // Stage 1's decision is loaded only on a packet's clock: the data flops
@@ -303,9 +307,9 @@ module bsd_exec #(
     always @(posedge clk) begin
         s2_valid_q <= pkt_valid_i;
         if (pkt_valid_i || rst) begin
-            {b0_q, b1_q, rn_q, idx_err_q, cfgerr_q, tl_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, sel_q, tidx_q,
+            {b0_q, b1_q, rn_q, idx_err_q, cfgerr_q, tl_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
-             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i,
+             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, pkt_sel_i,
                                                       cfg_i[IODIR*NUM_PINS +: NUM_PINS], level_i,
                                                       timer_busy_i);
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
@@ -327,9 +331,9 @@ module bsd_exec #(
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
         end else begin
-            if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i))
+            if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, pkt_sel_i))
                 rearm_q <= {NUM_PINS{1'b0}};
-            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_d1_i[5:0], cfg_i[IODIR*NUM_PINS +: NUM_PINS],
+            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_sel_i, cfg_i[IODIR*NUM_PINS +: NUM_PINS],
                         timer_busy_i))
                 start_q <= {NUM_PINS{1'b0}};
         end
@@ -347,7 +351,7 @@ module bsd_exec #(
     assign timer_go_o    = started_q;
     assign timer_idx_o   = tidx_q;
     assign hb_answer_o   = hb_answer_q;
-    assign pin_sel_o     = sel_q;
+    assign pin_sel_o     = pkt_sel_i;
     assign cfg_wdata_o   = s2_d2_q[4:0];
     assign out_wdata_o   = s2_d2_q != 8'd0;
     assign timer_host_o  = dev_host;
@@ -375,8 +379,8 @@ module bsd_exec #(
                                  // read of a pin beyond the last)
                                  (idx_err_q ? MSG_CMD_INDEX_ERR : b1_q) |
                                      ({8{cfgerr_q}} & MSG_CONFIG_ERR) | ({8{tl_q}} & MSG_CMD_TOO_LONG);
-    // The DIG_CFG read's DIGCFG bits 4:1 of the pin (sel_q) are looked up
-    // here, not in stage 1 (only the reply needs them): an AND-OR over the
+    // The DIG_CFG read's DIGCFG bits 4:1 of the pin (pkt_sel_i) are looked
+    // up here, not in stage 1 (only the reply needs them): an AND-OR over the
     // pins with a select that comes from flops takes about half the LUTs of
     // one with the select decoded in the same clock, whose decoder synthesis
     // merges into each field's mux (64 pins: ~40 LUT4 a field, not ~90).
@@ -384,10 +388,10 @@ module bsd_exec #(
     // writes it, from the clock after. (A ?: with the AND-ORs written out,
     // not an AND or a function, so that a simulator works them out only for
     // a read.)
-    assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00, |(cfg_i[4*NUM_PINS +: NUM_PINS] & sel_q),
-                                              |(cfg_i[3*NUM_PINS +: NUM_PINS] & sel_q),
-                                              |(cfg_i[2*NUM_PINS +: NUM_PINS] & sel_q),
-                                              |(cfg_i[1*NUM_PINS +: NUM_PINS] & sel_q), pin_in_q} : 8'd0) |
+    assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00, |(cfg_i[4*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                              |(cfg_i[3*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                              |(cfg_i[2*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                              |(cfg_i[1*NUM_PINS +: NUM_PINS] & pkt_sel_i), pin_in_q} : 8'd0) |
                                  ({8{dbg_q}} & s2_d2_q) | {7'd0, io_r_q && pin_level_q};
     assign reply_data_o[7:0]   = pkt_tail_i[39:32];   // only cmdDEBUG's echo sends it
     // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).

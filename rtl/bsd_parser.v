@@ -3,14 +3,16 @@
 // Byte framing of host packets: address, N, d0 .. d(N-1). Hands each
 // complete packet that needs action to the executor as a one-clock pulse with
 // N and its data bytes (d0..d2 for the commands, d3..d7 for cmdDEBUG's echo),
-// and d0 decoded into one flag per command the executor knows (pkt_cmd_o),
-// worked out as d0 arrives so that the executor's decisions start from flops.
+// d0 decoded into one flag per command the executor knows (pkt_cmd_o), and
+// d1's pin as a one-hot over the pins (pkt_sel_o), each worked out as its
+// byte arrives so that the executor's decisions start from flops.
 // Packets for other addresses are consumed silently; N > 8 resyncs on the
 // next byte; a partial packet is dropped after RX_TIMEOUT_US of waiting for a
 // byte.
 module bsd_parser #(
     parameter integer MODULE_ADDR   = 2,
-    parameter integer RX_TIMEOUT_US = 25_600
+    parameter integer RX_TIMEOUT_US = 25_600,
+    parameter integer NUM_PINS      = 5    // the width of pkt_sel_o
 ) (
     input  wire       clk,
     input  wire       rst,
@@ -26,12 +28,14 @@ module bsd_parser #(
     // d0 is: bit CMDF_<NAME> (bsd_protocol.vh) cmd<NAME>, bit CMDF_ANY any of these
     output wire [7:0] pkt_cmd_o,
     output wire [7:0] pkt_d1_o,
+    output wire [NUM_PINS-1:0] pkt_sel_o,  // d1's bits 5:0 as a one-hot over the pins (0 past the last)
     output wire [7:0] pkt_d2_o,
     output wire [39:0] pkt_tail_o    // d3..d7, d3 in the top byte (cmdDEBUG echoes them)
 );
     `include "bsd_protocol.vh"
 
     localparam [7:0] ADDR_OWN = MODULE_ADDR[7:0];
+    localparam [NUM_PINS-1:0] SEL_ONE = 1;
 
     // Idle ticks that drop a partial packet: one more than ceil(US / 1.6),
     // so the drop never comes before RX_TIMEOUT_US whatever the tick phase.
@@ -71,6 +75,7 @@ module bsd_parser #(
     reg  [3:0]    pkt_n_q;
     reg  [7:0]    pkt_d0_q, pkt_d1_q, pkt_d2_q;
     reg  [7:0]    pkt_cmd_q;
+    reg  [NUM_PINS-1:0] pkt_sel_q;
     reg  [39:0]   pkt_tail_q;
 
     assign pkt_valid_o = pkt_valid_q;
@@ -79,6 +84,7 @@ module bsd_parser #(
     assign pkt_d0_o    = pkt_d0_q;
     assign pkt_cmd_o   = pkt_cmd_q;
     assign pkt_d1_o    = pkt_d1_q;
+    assign pkt_sel_o   = pkt_sel_q;
     assign pkt_d2_o    = pkt_d2_q;
     assign pkt_tail_o  = pkt_tail_q;
 
@@ -186,7 +192,10 @@ module bsd_parser #(
             pkt_d0_q  <= s_axis_tdata;
             pkt_cmd_q <= cmd_flags(s_axis_tdata);
         end
-        if (pos_q[1]) pkt_d1_q <= s_axis_tdata;
+        if (pos_q[1]) begin
+            pkt_d1_q  <= s_axis_tdata;
+            pkt_sel_q <= SEL_ONE << s_axis_tdata[5:0];
+        end
         if (pos_q[2]) pkt_d2_q <= s_axis_tdata;
         // (d3..d7 come only with cmdDEBUG: one test for the five on other clocks)
         if (|pos_q[7:3]) begin

@@ -82,9 +82,7 @@ module bsd_pkt_tx #(
     reg        credit_q;  // its source is told when it has left (not after a cmdRESET)
 
     wire       hs   = valid_q && m_axis_tready;
-    // (free_o's terms written out: "!flush_i && free_o" is the same logic, but ABC maps
-    // the core a LUT4 or two apart, and docs/synthesis.md's figures are of this text)
-    wire       free = !flush_i && (!valid_q || (hs && last_q));
+    wire       free = !flush_i && free_o;
     wire       load = item_valid_i && free;
     wire       swap = flush_i && valid_q && first_q && !m_axis_tready;
     // The byte registers move on every handshake and whenever an item is offered

@@ -135,7 +135,10 @@ module bsd_timer_bank #(
                       (start & {NUM_TIMERS{host_i || rflx_i}});
         ev_r_q     <= ev_r_d;
         ev_f_q     <= ev_f_d;
-        if (NUM_TIMERS <= ANY_FLOP_MAX) ev_any_q <= |(ev_r_d | ev_f_d);
+        // (ev_r_d | ev_f_d simplified by hand, pulse_begin | complete being edge_at: synthesis
+        // keeps ev_r_d's terms apart and takes a LUT level more)
+        if (NUM_TIMERS <= ANY_FLOP_MAX)
+            ev_any_q <= |((start & ~mode_i & {NUM_TIMERS{host_i || rflx_i}}) | (deliver & (edge_at | timeout)));
         if (rst) begin
             t_q        <= 16'd0;
             run_q      <= NONE;

@@ -42,6 +42,8 @@ BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},
     "pins7-fixed": {"NUM_PINS": 7, "TIMER_MASK": "7'b1010011", "FIXED_MASK": "7'b0100101",
                     "PIN_ID_BASE": 40},
+    # a timer on every pin: the executor's "a timer pin" is then "a pin at all"
+    "pins3-all": {"NUM_PINS": 3, "TIMER_MASK": "3'b111", "FIXED_MASK": "3'b000", "PIN_ID_BASE": 5},
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
 }
@@ -162,17 +164,20 @@ class ExecModel:
 
 class ExecTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_cmd_i=cmd_flags(0), pkt_d1_i=0,
-                  pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
+                  pkt_sel_i=1, pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
     OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_idx_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
                         "reply_tail_o", "dio_id_o", "dio_val_o")
 
     def drive(self, rst: int = 0, **inputs: int) -> dict[str, int]:
-        """As ClockedTB's, with d0 put on the ports as bsd_parser hands it over, decoded
-        (pkt_cmd_i); the values returned (the model's) name d0 itself, pkt_d0_i."""
+        """As ClockedTB's, with d0 and d1 put on the ports as bsd_parser hands them over:
+        d0 decoded (pkt_cmd_i), d1 with its pin one-hot beside it (pkt_sel_i, held with
+        d1); the values returned (the model's) name d0 itself, pkt_d0_i."""
         d0 = inputs.pop("pkt_d0_i", self.cur.pop("pkt_d0_i", 0))
-        vals = super().drive(rst, pkt_cmd_i=cmd_flags(d0), **inputs)
+        d1 = inputs.get("pkt_d1_i", self.cur["pkt_d1_i"])
+        sel = 1 << (d1 & 0x3F) if (d1 & 0x3F) < self.n else 0
+        vals = super().drive(rst, pkt_cmd_i=cmd_flags(d0), pkt_sel_i=sel, **inputs)
         vals["pkt_d0_i"] = d0
         return vals
 

@@ -28,7 +28,8 @@ DESIGN.md decisions 2 and 10), written from the contract:
   the least count that never drops before RX_TIMEOUT_US of idle time whatever the
   tick phase: (TIMEOUT_TICKS - 1) * 1.6 us >= RX_TIMEOUT_US. RX_TIMEOUT_US = 0: never.
 - a command's d0 also comes decoded (pkt_cmd_o, the block's header): one flag per command
-  the executor knows (cmd_flags below), checked with every command handed over.
+  the executor knows (cmd_flags below), and d1's bits 5:0 as a one-hot over NUM_PINS pins
+  (pkt_sel_o, 0 for a pin past the last), both checked with every command handed over.
 """
 
 from __future__ import annotations
@@ -48,14 +49,15 @@ from seeding import make_rng
 PERIOD_NS = 10
 
 BUILDS = {
-    f"addr{a}-to{t}us": {"MODULE_ADDR": a, "RX_TIMEOUT_US": t}
-    for a, t in [(2, 20), (254, 16), (0x40, 0), (2, 25_600)]
+    f"addr{a}-to{t}us-pins{p}": {"MODULE_ADDR": a, "RX_TIMEOUT_US": t, "NUM_PINS": p}
+    for a, t, p in [(2, 20, 5), (254, 16, 64), (0x40, 0, 1), (2, 25_600, 16)]
 }
 TIMED = [b for b, p in BUILDS.items() if p["RX_TIMEOUT_US"]]
 UNTIMED = [b for b, p in BUILDS.items() if not p["RX_TIMEOUT_US"]]
 
 MODULE_ADDR = int(hdl_params().get("MODULE_ADDR", DEFAULT_MODULE_ADDR))
 RX_TIMEOUT_US = int(hdl_params().get("RX_TIMEOUT_US", DEFAULT_RX_TIMEOUT_US))
+NUM_PINS = int(hdl_params().get("NUM_PINS", 5))
 
 
 def timeout_ticks(us: int) -> int:
@@ -147,6 +149,9 @@ class ParserTB(ClockedTB):
         if int(d.pkt_kind_o.value) == KIND_CMD:
             d0 = int(d.pkt_d0_o.value)
             assert int(d.pkt_cmd_o.value) == cmd_flags(d0), f"pkt_cmd_o {int(d.pkt_cmd_o.value):#x} for d0 {d0}"
+            d1 = int(d.pkt_d1_o.value)
+            sel = 1 << (d1 & 0x3F) if (d1 & 0x3F) < NUM_PINS else 0
+            assert int(d.pkt_sel_o.value) == sel, f"pkt_sel_o {int(d.pkt_sel_o.value):#x} for d1 {d1}"
         return (int(d.pkt_kind_o.value), int(d.pkt_n_o.value),
                 [int(d.pkt_d0_o.value), int(d.pkt_d1_o.value), int(d.pkt_d2_o.value)])
 
