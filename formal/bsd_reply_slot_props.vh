@@ -8,18 +8,19 @@
 // reply_i and dio_rflx_i only with s2_valid_i, reply_n_i <= 8; soft_reset_i (a cmdRESET in
 // stage 2, which has no reply) only with s2_valid_i and without reply_i, and rst (the core's
 // reset) on the next clock; rep_done_i only while
-// rep_req_o (bsd_pkt_tx tells only a waiting source). A reference holds at most one reply:
+// rep_req_o (bsd_pkt_tx tells only a waiting source); swap_i only with rst. A reference holds at most one reply:
 // after reset the slot holds the power-up message (A, 2, CMD_MSG, statePowerReset); a reply
 // from stage 2 fills it with stage 2's N and bytes, rep_done_i empties it. Asserted: rep_req_o
 // equals the reference's full flag and, while full, the outputs its contents (so a reply is
 // held unchanged until taken, and each reply gives exactly one request: it rises the clock
 // after stage 2 and falls only the clock after its done); rep_new_o (the event queue's
-// reply bit) is exactly the clock the slot fills, the power-up message's included; a DIG_IO
+// reply bit) is exactly the clock the slot fills, the power-up message's included unless
+// swap_i came with its reset (the transmitter sends it already); a DIG_IO
 // RFLX value is an event of exactly the clock after stage 2 with stage 2's ID and level; stage
 // 2 always finds the slot free (nothing is overwritten or lost); hold_o = a packet in stage 2
 // or the slot full or the clock after soft_reset_i, exactly.
     reg                f_past_valid = 1'b0;
-    reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q, f_srst_q;
+    reg                f_rst_q, f_pkt_q, f_req_q, f_done_q, f_reply_q, f_hold_q, f_srst_q, f_swap_q;
     reg                f_rep_full;
     reg [3:0]          f_n;
     reg [31:0]         f_data, f_tail;
@@ -32,6 +33,7 @@
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
         f_rst_q   <= rst;
+        f_swap_q  <= swap_i;
         f_pkt_q   <= pkt_valid_i && !rst;
         f_req_q   <= rep_req_o;
         f_done_q  <= rep_done_i;
@@ -69,6 +71,7 @@
         if (f_past_valid && f_srst_q) assume(rst);
         assume(reply_n_i <= 4'd8);
         if (rep_done_i) assume(rep_req_o);
+        if (swap_i) assume(rst);
 
         if (f_past_valid) begin
             assert(rep_req_o == f_rep_full);
@@ -83,7 +86,7 @@
             // Stage 2 finds the slot free.
             if (s2_valid_i) assert(!rep_req_o);
             // The reply's event: the clock the request rises (the power-up message's too).
-            assert(rep_new_o == (rep_req_o && (f_rst_q || !f_req_q || f_done_q)));
+            assert(rep_new_o == (rep_req_o && (f_rst_q ? !f_swap_q : !f_req_q || f_done_q)));
             if (!f_rst_q) begin
                 // A request rises only the clock after a reply, falls only after its done;
                 // while it waits its packet does not change.

@@ -338,9 +338,13 @@ module brainstem_dio #(
     wire                  dio_rflx_val, dio_rflx_new;
     wire [5:0]            dio_rflx_id;
 
+    // The transmitter's swap (bsd_pkt_tx, declared here for the slot).
+    wire                  tx_swap;
+
     bsd_reply_slot u_slot (
         .clk          (clk),
         .rst          (core_rst),
+        .swap_i       (tx_swap),
         .pkt_valid_i  (pkt_valid),
         .soft_reset_i (soft_reset),
         .s2_valid_i   (s2_valid),
@@ -521,13 +525,10 @@ module brainstem_dio #(
     localparam integer OUTQ_DEPTH = 1 << $clog2(NT + 4);
     wire          evq_ready, evq_valid, evq_empty, drain_free, drain_empty;
     wire [EW-1:0] evq_data;
-    // After a cmdRESET that turned the packet on offer into the power-up
-    // message (bsd_pkt_tx), that message is already on its way: its event
-    // is dropped.
-    wire          tx_swapped;
-    wire          rep_ev   = rep_new && !tx_swapped;
-    wire          ev_new   = ev_any || rep_ev || dio_rflx_new || hb_new_q;
-    wire [EW-1:0] ev_entry = {ev_any, ev_r, ev_f, rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val,
+    // (After a cmdRESET that turned the packet on offer into the power-up
+    // message, the reply slot gives that message no event: bsd_pkt_tx's swap_o.)
+    wire          ev_new   = ev_any || rep_new || dio_rflx_new || hb_new_q;
+    wire [EW-1:0] ev_entry = {ev_any, ev_r, ev_f, rep_new, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val,
                               t_count};
     // (drain_empty comes from flops: the drain's pick stays off the queue's
     // write enable; an entry that meets the drain's last item is queued.)
@@ -559,7 +560,7 @@ module brainstem_dio #(
     localparam [DW-1:0] EV_SET  = {{(DW - 26){1'b0}}, 3'b000, PID_ALL, 1'b0, 16'h0000};
     wire [DW-1:0] ev_data = {evq_data[DW-1:26],
                              evq_valid ? evq_data[25:16] :
-                                         {rep_ev, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val},
+                                         {rep_new, dio_rflx_new, hb_new_q, dio_rflx_id, dio_rflx_val},
                              evq_data[15:0]} & EV_KEEP | EV_SET;
 
     bsd_drain #(
@@ -613,7 +614,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (rst),
         .flush_i       (soft_rst_q),
-        .swapped_o     (tx_swapped),
+        .swap_o        (tx_swap),
         .item_valid_i  (outq_valid || (order_valid && out_skip)),
         // (the timer's number and device ID as constant as they are)
         .item_data_i   ((outq_valid ? outq_data : order_data) & {2'b11, TIDX_MASK, TID_ANY, 16'hFFFF} |

@@ -129,6 +129,12 @@ module bsd_exec #(
     endfunction
     /* verilator coverage_on */
     localparam [64*6-1:0] TIMER_NUM = timer_table(0);
+    // Up to 8 timers, each start strobe's data is an AND of its own (the pin's
+    // line, an input, not busy, a PTIME_RD of N >= 2), so that the lookups end
+    // at the strobes' D inputs: the shared clear below (starts()) was the
+    // iCEBreaker top's critical path, a reset input behind four LUT levels.
+    // More timers keep the shared clear: no gate a timer.
+    localparam FEW_TIMERS = timer_bits(0) <= 3;
 
     // ------------------------------ stage 1: pin lookup and decisions
 
@@ -249,7 +255,8 @@ module bsd_exec #(
                       is_cmd && d0_hb && n_ge2 &&           // hb_answer
                           (d1 == HB_UP + HB_ANSWER_OFFSET || d1 == HB_DOWN + HB_ANSWER_OFFSET),
                       sel,                                  // rearm (cleared below unless rearms())
-                      sel & TIMER_MASK};                    // start (cleared below unless starts())
+                      FEW_TIMERS ? sel & TIMER_MASK & in & ~busy & {NUM_PINS{c_time}} :  // start (with many
+                                   sel & TIMER_MASK};       // timers cleared below unless starts())
         end
     endfunction
 
@@ -265,10 +272,10 @@ module bsd_exec #(
         end
     endfunction
 
-    // Whether the packet starts its pin's timer: stage 1's `start`, and the
-    // start strobes' clear, as rearms() is the re-arm strobes': the strobes
-    // then load the pin's one-hot line, and the start is their shared
-    // synchronous clear, not an AND a timer.
+    // Whether the packet starts its pin's timer: stage 1's `start`, and with
+    // more than 8 timers the start strobes' clear, as rearms() is the re-arm
+    // strobes': the strobes then load the pin's one-hot line, and the start
+    // is their shared synchronous clear, not an AND a timer.
     function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [NUM_PINS-1:0] sel,
                     input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] busy);
         begin
@@ -333,8 +340,8 @@ module bsd_exec #(
         end else begin
             if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, pkt_sel_i))
                 rearm_q <= {NUM_PINS{1'b0}};
-            if (!starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_sel_i, cfg_i[IODIR*NUM_PINS +: NUM_PINS],
-                        timer_busy_i))
+            if (!FEW_TIMERS && !starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_sel_i,
+                                       cfg_i[IODIR*NUM_PINS +: NUM_PINS], timer_busy_i))
                 start_q <= {NUM_PINS{1'b0}};
         end
     end

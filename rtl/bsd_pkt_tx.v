@@ -17,15 +17,16 @@
 // host's framing holds, and credits nobody. One whose first byte is offered
 // but not yet taken cannot be withdrawn (AXI-Stream), but every packet starts
 // with the address, so it becomes the power-up message in place, credited to
-// the reply slot (which holds that message after the reset); swapped_o tells
-// the top on the next clock, so that the message is not queued again.
+// the reply slot (which holds that message after the reset); swap_o tells
+// the reply slot on that clock, so that the message it holds after the reset
+// makes no event of its own (it would be queued again).
 module bsd_pkt_tx #(
     parameter integer MODULE_ADDR = 2
 ) (
     input  wire        clk,
     input  wire        rst,
     input  wire        flush_i,      // cmdRESET
-    output wire        swapped_o,    // the last clock's flush made the power-up message
+    output wire        swap_o,       // this clock's flush makes the packet on offer the power-up message
     // the output queue's head: {kind, timer, its device ID, result}
     input  wire        item_valid_i,
     input  wire [29:0] item_data_i,
@@ -78,7 +79,6 @@ module bsd_pkt_tx #(
     /* verilator coverage_off */
     reg [7:0]  hb_type_q;
     /* verilator coverage_on */
-    reg        swapped_q;
     reg        credit_q;  // its source is told when it has left (not after a cmdRESET)
 
     wire       hs   = valid_q && m_axis_tready;
@@ -135,7 +135,7 @@ module bsd_pkt_tx #(
     // read enable, which free_o reaches, waits for one flop less)
     assign free_o        = !valid_q || (hs && last_q);
     assign idle_o        = !valid_q;
-    assign swapped_o     = swapped_q;
+    assign swap_o        = swap && !rst;
     assign timer_done_o  = done && k_timer;
     assign timer_idx_o   = idx_q;
     assign reply_done_o  = done && k_reply;
@@ -197,7 +197,6 @@ module bsd_pkt_tx #(
                 tdata_q  <= ADDR_OWN;
             end
         end
-        swapped_q <= swap;
         if (swap) begin
             // The address is on offer already; the rest becomes `2, 0x80, 4`,
             // which the reply slot holds from the next clock.
@@ -207,7 +206,6 @@ module bsd_pkt_tx #(
         // (the byte registers need no reset: read only while valid_q, and a packet
         // starts them; the outputs' do, for a simulator's sake)
         if (rst) begin
-            swapped_q <= 1'b0;
             idx_q   <= 6'd0;
             tdata_q <= ADDR_OWN;
         end

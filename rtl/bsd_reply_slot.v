@@ -4,7 +4,10 @@
 // waiting reply or message (a packet of up to 8 data bytes: bytes 4..7 only
 // for cmdDEBUG's echo) for bsd_pkt_tx; rep_new_o marks the clock it fills
 // (the power-up message's on the clock after reset), an event for the event
-// queue. A DIG_IO RFLX value needs no slot: it is an event of one clock
+// queue, except after a cmdRESET whose flush made the packet on offer the
+// power-up message (swap_i): that message is on its way already. (The
+// flag, not an AND at the queue's write, which is the iCEBreaker top's
+// critical path.) A DIG_IO RFLX value needs no slot: it is an event of one clock
 // (dio_new_o with its ID and level) and travels in the event queue.
 // The parser never completes a packet that could need the slot while it is
 // full: hold_o covers the clocks after the packet up to its request (the
@@ -22,6 +25,7 @@ module bsd_reply_slot (
     input  wire                rst,
     input  wire                pkt_valid_i,   // the parser hands a packet to the executor
     input  wire                soft_reset_i,  // stage 2 is a cmdRESET: the core resets on the next clock
+    input  wire                swap_i,        // with rst: bsd_pkt_tx's packet on offer becomes the power-up message
     // the executor's stage 2 (bsd_exec)
     input  wire                s2_valid_i,    // a packet is in stage 2
     input  wire                reply_i,       // it has a reply
@@ -103,7 +107,7 @@ module bsd_reply_slot (
             dio_id_q    <= 6'd0;
             dio_val_q   <= 1'b0;
             dio_new_q   <= 1'b0;
-            new_q       <= 1'b1;
+            new_q       <= !swap_i;
         end
     end
 

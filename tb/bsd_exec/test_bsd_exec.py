@@ -42,6 +42,9 @@ BUILDS = {
     "gp1": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "FIXED_MASK": "5'b00000", "PIN_ID_BASE": 5},
     "pins7-fixed": {"NUM_PINS": 7, "TIMER_MASK": "7'b1010011", "FIXED_MASK": "7'b0100101",
                     "PIN_ID_BASE": 40},
+    # more than 8 timers: the start strobes share a clear instead of an AND each
+    "pins12-t10": {"NUM_PINS": 12, "TIMER_MASK": "12'b111111011110", "FIXED_MASK": "12'b000000000001",
+                   "PIN_ID_BASE": 5},
     # a timer on every pin: the executor's "a timer pin" is then "a pin at all"
     "pins3-all": {"NUM_PINS": 3, "TIMER_MASK": "3'b111", "FIXED_MASK": "3'b000", "PIN_ID_BASE": 5},
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",

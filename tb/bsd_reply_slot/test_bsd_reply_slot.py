@@ -40,10 +40,12 @@ class SlotModel:
     def __init__(self) -> None:
         self.reset()
 
-    def reset(self) -> None:
+    def reset(self, swap: bool = False) -> None:
         self.decided = False          # stage 2 chose a reply last clock
         self.waiting = True           # the reply slot is full (the power-up message)
-        self.boot = True              # the clock after reset: the power-up message's event
+        # the clock after reset: the power-up message's event, unless the transmitter
+        # sends it already (swap_i with the reset: a cmdRESET met a packet on offer)
+        self.boot = not swap
         self.reply: tuple[int, list[int]] = POWER_UP
         self.dio: tuple[int, int] | None = None   # a DIG_IO RFLX event this clock
         self.in_stages = True         # hold after reset until the power-up message left
@@ -72,9 +74,9 @@ class SlotModel:
 
 
 class SlotTB(ClockedTB):
-    INPUTS = dict(pkt_valid_i=0, soft_reset_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
+    INPUTS = dict(pkt_valid_i=0, soft_reset_i=0, swap_i=0, s2_valid_i=0, reply_i=0, reply_n_i=0, reply_data_i=0,
                   dio_rflx_i=0, dio_id_i=0, dio_val_i=0, rep_done_i=0)
-    PULSES = ("pkt_valid_i", "soft_reset_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
+    PULSES = ("pkt_valid_i", "soft_reset_i", "swap_i", "s2_valid_i", "reply_i", "dio_rflx_i", "rep_done_i")
     OUTPUTS = ("hold_o", "rep_req_o", "rep_new_o", "rep_n_o", "rep_data_o", "dio_new_o",
                "dio_id_o", "dio_val_o")
 
@@ -89,7 +91,7 @@ class SlotTB(ClockedTB):
         await ReadOnly()
         self.clocks += 1
         if rst:
-            self.model.reset()
+            self.model.reset(bool(vals["swap_i"]))
             out: dict = {}
         else:
             out = self.sample()
@@ -165,6 +167,23 @@ async def test_soft_reset_holds(dut) -> None:
              (await tb.step(s2_valid_i=1, soft_reset_i=1))["hold_o"],
              (await tb.step())["hold_o"], (await tb.step())["hold_o"]]
     assert holds == [0, 1, 1, 0], holds
+
+
+@cocotb.test()
+async def test_soft_reset_swap(dut) -> None:
+    """A reset with swap_i (a cmdRESET whose flush made the packet on offer the power-up
+    message) refills the slot with the power-up message, requested as after any reset, but
+    gives it no event (rep_new_o 0): the transmitter sends it already. Without swap_i the
+    same reset gives the event."""
+    tb = SlotTB(dut)
+    for swap in (1, 0, 1):
+        await free(tb)
+        await tb.step(pkt_valid_i=1)
+        await tb.step(s2_valid_i=1, soft_reset_i=1)
+        await tb.step(rst=1, swap_i=swap)
+        out = await tb.step()
+        assert (out["rep_new_o"], out["rep_req_o"]) == (1 - swap, 1), (swap, out)
+        assert (out["rep_n_o"], tb.rep(out)) == POWER_UP
 
 
 @cocotb.test()
