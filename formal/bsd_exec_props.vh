@@ -4,8 +4,9 @@
 // clocks apart (the header's comment-only invariant; in simulation the block checks it);
 // kind CMD, PROBE or SERIAL; a command's N 1..8, a probe's 0; pkt_cmd_i the flags of a free
 // d0 byte (f_pkt_d0), as bsd_parser decodes it, and pkt_sel_i d1's pin one-hot on every clock
-// (its props prove both); pkt_d1_i and pkt_tail_i unchanged on the clock after pkt_valid_i (the
-// parser writes no data byte before the clock after stage 2).
+// (its props prove both); pkt_tail_i, and pkt_d1_i for N >= 2, unchanged on the clock after
+// pkt_valid_i (the parser writes none of the packet's data bytes before the clock after stage 2;
+// after a one-byte packet its d1 slot takes the next byte, so stage 2 must not need d1 then).
 // cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock
 // (cfg_i is unchanged on the clock after: stage 2 looks up a DIG_CFG read's bits 4:1).
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
@@ -148,7 +149,9 @@
             if (pkt_kind_i == KIND_CMD) assume(pkt_n_i >= 4'd1 && pkt_n_i <= 4'd8);
             if (pkt_kind_i == KIND_PROBE) assume(pkt_n_i == 4'd0);
         end
-        if (f_s2) assume(pkt_tail_i == f_tail && pkt_d1_i == f_d1);
+        if (f_s2) assume(pkt_tail_i == f_tail);
+        // (d1 only for N >= 2: after a one-byte packet the parser's d1 slot takes the next byte)
+        if (f_s2 && f_n >= 4'd2) assume(pkt_d1_i == f_d1);
         assume(pkt_sel_i == f_one << pkt_d1_i[5:0]);
         // Only this block's stage 2 writes cfg_i (through bsd_cfg_regs), from the clock after it.
         if (f_s2) assume(cfg_i == f_cfg);

@@ -14,9 +14,10 @@
 // bits, looked up there), and whether a DIG_IO read sends its value on
 // RFLX. Packets come at least three clocks apart, so the stages never
 // overlap. cmdDEBUG's echo takes d3..d7, and the strobes' pin (pin_sel_o)
-// its one-hot, straight from the parser's registers in stage 2: the parser
-// writes no data byte before the clock after stage 2, when the reply slot
-// has taken them. The decision goes to
+// d1's one-hot, straight from the parser's registers in stage 2: the parser
+// writes none of the packet's data bytes before the clock after stage 2,
+// when the reply slot has taken them (a slot past the packet's N may take
+// the next byte, but such a packet never reads it). The decision goes to
 // bsd_reply_slot, which holds the waiting reply and the waiting DIG_IO RFLX
 // value and tells the parser when to hold.
 module bsd_exec #(
