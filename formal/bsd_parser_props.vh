@@ -13,7 +13,9 @@
 //   s_axis_tready waiting for hold_i (so the top's hold_i need not include pkt_valid_o:
 //   bsd_reply_slot assumes packets at least two clocks apart);
 // - pkt_sel_o is pkt_d1_o's bits 5:0 as a one-hot over NUM_PINS pins (0 past the last) on
-//   every clock after the first load (they load together; bsd_exec's props assume it);
+//   every clock after the first load (they load together; bsd_exec's props assume it), and a
+//   command's data bytes d0..d(N-1), and with N >= 2 pkt_sel_o, are unchanged on the clock
+//   after its handover (stage 2 reads them there; a slot past N may take the next byte);
 // - pkt_cmd_o is pkt_d0_o's command flags, from the second clock after reset on (the two
 //   load together; the first load comes on the clock after reset, which sets every slot);
 // - from any reachable state, at most 10 bytes (address included) or TIMEOUT_TICKS idle
@@ -61,6 +63,8 @@
         f_sv_q <= s_axis_tvalid; f_sr_q <= s_axis_tready; f_sd_q <= s_axis_tdata;
         f_hold_q <= hold_i;
         f_pv_q   <= pkt_valid_o && !rst;
+        f_pd_q   <= f_pd;
+        f_sel_q  <= pkt_sel_o;
         if (pos_q[0]) f_ld <= 1'b1;
         if (pos_q[1]) f_ld1 <= 1'b1;
         f_exp <= 1'b0;
@@ -117,6 +121,8 @@
     // The handed-over packet's data bytes, as the design presents them.
     wire [63:0] f_pd = {pkt_d0_o, pkt_d1_o, pkt_d2_o, pkt_tail_o};
     wire [63:0] f_mask = ~(64'hFFFFFFFFFFFFFFFF >> (8 * f_pn));  // the first N bytes (N <= 8)
+    reg  [63:0] f_pd_q;
+    reg  [NUM_PINS-1:0] f_sel_q;
     wire [63:0] f_cmask = ~(64'hFFFFFFFFFFFFFFFF >> (8 * f_cnt)); // the bytes taken so far
 
     always @(*) begin
@@ -126,6 +132,11 @@
             assume(s_axis_tdata == f_sd_q);
         end
         if (f_ld1) assert(pkt_sel_o == SEL_ONE << pkt_d1_o[5:0]);
+        // The handed-over command's bytes hold through stage 2.
+        if (f_past_valid && !f_rst_q && f_pv_q && f_pk == KIND_CMD) begin
+            assert((f_pd & f_mask) == (f_pd_q & f_mask));
+            if (f_pn >= 4'd2) assert(pkt_sel_o == f_sel_q);
+        end
         if (f_past_valid && !f_rst_q) begin
             // Handover: exactly the reference's packets, with their kind, N and bytes.
             assert(pkt_valid_o == f_exp);

@@ -5,7 +5,7 @@
 // cfg_o is field-major: DIGCFG bit k of pin p is cfg_o[k*NUM_PINS + p], so
 // that every consumer takes a field of all pins as one slice (a simulation
 // model built by Verilator then works on words, not on every pin's bits).
-// The pins are addressed by a one-hot sel_i, decoded once by bsd_exec: each
+// The pins are addressed by a one-hot sel_i, decoded once (bsd_parser, with d1): each
 // pin's flops then take a shared data bus under an enable of their own (one
 // gate a pin, no data mux), and the per-pin loop runs only on a write.
 // IODIR is kept inverted only (the output enable, oe_o), and the flops it

@@ -15,8 +15,9 @@
 //
 // A timer's bits in an entry: r alone is a reference, f alone a completion,
 // both a timeout (bsd_timer_bank), so no timer keeps a timed-out flag.
-// Items go through two registered stages. A: a reference writes T into the
-// timer's reference RAM; a finish's result, T - reference (1 if that is 0;
+// Items go through two registered stages. A: every timer item writes T into
+// the timer's reference RAM (a finish follows its run's reference and reads
+// it before its own write); a finish's result, T - reference (1 if that is 0;
 // 0 for a timeout), is worked out from the reference the RAM read on the
 // pick's clock. B: the result (a flop) is queued for the
 // transmitter when HOST is set (order_*) and strobed on rflx_* when RFLX is

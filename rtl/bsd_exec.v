@@ -44,7 +44,8 @@ module bsd_exec #(
     // configuration register file
     output wire                  cfg_we_o,
     output wire                  out_we_o,
-    output wire [NUM_PINS-1:0]   pin_sel_o,     // the pin both writes address, one-hot
+    output wire [NUM_PINS-1:0]   pin_sel_o,     // the pin both writes address, one-hot or zero
+                                                // (pkt_sel_i; read only with the write strobes)
     output wire [4:0]            cfg_wdata_o,
     output wire                  out_wdata_o,
     output wire [NUM_PINS-1:0]   rearm_o,
@@ -135,7 +136,7 @@ module bsd_exec #(
     // at the strobes' D inputs: the shared clear below (starts()) was the
     // iCEBreaker top's critical path, a reset input behind four LUT levels.
     // More timers keep the shared clear: no gate a timer.
-    localparam FEW_TIMERS = timer_bits(0) <= 3;
+    localparam [0:0] FEW_TIMERS = timer_bits(0) <= 3;
 
     // ------------------------------ stage 1: pin lookup and decisions
 
@@ -280,7 +281,8 @@ module bsd_exec #(
     function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [NUM_PINS-1:0] sel,
                     input [NUM_PINS-1:0] in, input [NUM_PINS-1:0] busy);
         begin
-            starts = kind == KIND_CMD && cmd[CMDF_PTIME_RD] && |n[3:1] && |(in & sel & TIMER_MASK) && !(|(busy & sel & TIMER_MASK));
+            starts = kind == KIND_CMD && cmd[CMDF_PTIME_RD] && |n[3:1] &&
+                     |(in & sel & TIMER_MASK) && !(|(busy & sel & TIMER_MASK));
         end
     endfunction
 

@@ -6,7 +6,7 @@
 // (the power-up message's on the clock after reset), an event for the event
 // queue, except after a cmdRESET whose flush made the packet on offer the
 // power-up message (swap_i): that message is on its way already. (The
-// flag, not an AND at the queue's write, which is the iCEBreaker top's
+// flag, not an AND at the queue's write, which was the iCEBreaker top's
 // critical path.) A DIG_IO RFLX value needs no slot: it is an event of one clock
 // (dio_new_o with its ID and level) and travels in the event queue.
 // The parser never completes a packet that could need the slot while it is
@@ -62,7 +62,7 @@ module bsd_reply_slot (
     reg                dio_val_q;
     reg                dio_new_q;
     reg                new_q;        // the slot has filled: reply_q, or the clock after reset
-                                     // (the power-up message's event), as one flop
+                                     // (the power-up message's event, unless swap_i), as one flop
     reg                pending_q;    // see hold_o
 
     assign rep_req_o   = reply_q || rep_wait_q;
