@@ -33,7 +33,7 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
                           HB_UP, KIND_CMD, KIND_PROBE, KIND_SERIAL, MAX_N, MSG_CMD_INDEX_ERR,
                           MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR,
                           MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
-from bsd_model import cmd_flags
+from bsd_model import cmd_flags, pin_sel
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
@@ -178,8 +178,7 @@ class ExecTB(ClockedTB):
         d0 decoded (pkt_cmd_i), d1 with its pin one-hot beside it (pkt_sel_i, held with
         d1); the values returned (the model's) name d0 itself, pkt_d0_i."""
         d0 = inputs.pop("pkt_d0_i", self.cur.pop("pkt_d0_i", 0))
-        d1 = inputs.get("pkt_d1_i", self.cur["pkt_d1_i"])
-        sel = 1 << (d1 & 0x3F) if (d1 & 0x3F) < self.n else 0
+        sel = pin_sel(inputs.get("pkt_d1_i", self.cur["pkt_d1_i"]), self.n)
         vals = super().drive(rst, pkt_cmd_i=cmd_flags(d0), pkt_sel_i=sel, **inputs)
         vals["pkt_d0_i"] = d0
         return vals

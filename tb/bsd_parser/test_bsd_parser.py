@@ -38,7 +38,7 @@ import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
-from bsd_model import CMD_FLAGS, cmd_flags
+from bsd_model import CMD_FLAGS, cmd_flags, pin_sel
 from bsd_protocol import (ADDR_RESYNC, DEFAULT_MODULE_ADDR, DEFAULT_RX_TIMEOUT_US, KIND_CMD, KIND_PROBE,
                           KIND_SERIAL, MAX_N)
 from clocked_tb import ClockedTB
@@ -150,8 +150,7 @@ class ParserTB(ClockedTB):
             d0 = int(d.pkt_d0_o.value)
             assert int(d.pkt_cmd_o.value) == cmd_flags(d0), f"pkt_cmd_o {int(d.pkt_cmd_o.value):#x} for d0 {d0}"
             d1 = int(d.pkt_d1_o.value)
-            sel = 1 << (d1 & 0x3F) if (d1 & 0x3F) < NUM_PINS else 0
-            assert int(d.pkt_sel_o.value) == sel, f"pkt_sel_o {int(d.pkt_sel_o.value):#x} for d1 {d1}"
+            assert int(d.pkt_sel_o.value) == pin_sel(d1, NUM_PINS), f"pkt_sel_o {int(d.pkt_sel_o.value):#x} for d1 {d1}"
         return (int(d.pkt_kind_o.value), int(d.pkt_n_o.value),
                 [int(d.pkt_d0_o.value), int(d.pkt_d1_o.value), int(d.pkt_d2_o.value)])
 

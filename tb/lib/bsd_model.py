@@ -765,3 +765,10 @@ CMD_FLAGS = tuple(CMD_FLAG_BITS)  # the commands that have a flag
 def cmd_flags(d0: int) -> int:
     bit = CMD_FLAG_BITS.get(d0)
     return 0 if bit is None else 1 << bit | 1 << CMDF_ANY
+
+
+def pin_sel(d1: int, num_pins: int) -> int:
+    """d1's pin (bits 5:0) as bsd_parser hands it over (pkt_sel_o, bsd_exec's pkt_sel_i): a
+    one-hot over the pins, 0 for a pin past the last."""
+    pin = d1 & 0x3F
+    return 1 << pin if pin < num_pins else 0
