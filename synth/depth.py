@@ -10,12 +10,15 @@ its flop's D without a route only when it drives nothing else (nextpnr packs it 
 flop's cell). Carry chains and RAM clock-to-out are guesses (0.3 / 0.6, 2.5). On the
 iCEBreaker top the worst endpoint read about 0.5 to 2 ns below nextpnr's worst over 5 seeds.
 
-    synth/depth.py [netlist] [--over NS] [--explain REGEX]
+    synth/depth.py [netlist] [--over NS] [--explain REGEX] [--lone]
 
 netlist: synth/build/icebreaker/top.json by default (synth/synth.py --only icebreaker writes
 it). Prints the worst arrival, the number of endpoints over NS (default 15.5), and those
 endpoints grouped by source and sink register; --explain shows the worst path to the first
-endpoint whose cell.port matches REGEX, with each cell's inputs and their arrivals.
+endpoint whose cell.port matches REGEX, with each cell's inputs and their arrivals. --lone
+counts the flops that nextpnr gives a logic cell of their own (their D is not a LUT that drives
+them alone: a flop loaded from a shared net through its enable, or from another flop), by
+register: on a full device they, not the LUTs, decide how many logic cells are left.
 """
 
 from __future__ import annotations
@@ -125,8 +128,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("netlist", nargs="?", default=str(Path(__file__).parent / "build/icebreaker/top.json"))
     ap.add_argument("--over", type=float, default=15.5, metavar="NS")
     ap.add_argument("--explain", metavar="REGEX")
+    ap.add_argument("--lone", action="store_true")
     args = ap.parse_args(argv)
-    net = Netlist(Path(args.netlist))
+    try:
+        net = Netlist(Path(args.netlist))
+    except (OSError, ValueError, KeyError, StopIteration) as e:
+        ap.error(f"{args.netlist}: not a yosys JSON netlist ({e.__class__.__name__}: {e})")
+    if args.lone:
+        ffs = [n for n in net.cells if net.is_ff(n)]
+        lone = collections.Counter(short(n) for n in ffs if n not in net.packed)
+        print(f"{len(ffs)} flops, {sum(lone.values())} in a logic cell of their own:")
+        for reg, k in lone.most_common():
+            print(f"{k:6d}  {reg}")
+        return 0
     sys.setrecursionlimit(100_000)
     eps = net.endpoints()
     over = [e for e in eps if e[0] > args.over]

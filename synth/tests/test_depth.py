@@ -9,6 +9,8 @@ import json
 import sys
 from pathlib import Path
 
+import pytest
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import depth
@@ -40,3 +42,16 @@ def test_depth(tmp_path: Path, capsys) -> None:
     assert eps[("b", "D")] == (depth.CLKQ + depth.ROUTE + depth.LUTD["I0"] + depth.SETUP, 1)
     assert depth.main([str(net), "--over", "0"]) == 0
     assert "over 0 ns: 3" in capsys.readouterr().out
+    # --lone: a's D LUT also drives w, so a takes a logic cell of its own; b shares z's
+    assert depth.main([str(net), "--lone"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["2 flops, 1 in a logic cell of their own:", "     1  a"]
+
+
+def test_depth_bad_netlist(tmp_path: Path, capsys) -> None:
+    bad = tmp_path / "top.json"
+    bad.write_text("not json")
+    for path in (bad, tmp_path / "missing.json"):
+        with pytest.raises(SystemExit) as e:
+            depth.main([str(path), "--lone"])
+        assert e.value.code == 2
+        assert "not a yosys JSON netlist" in capsys.readouterr().err
