@@ -21,7 +21,8 @@
     reg [1:0]  f_kind;
     reg        f_busy;   // a packet is going out
     reg        f_credit; // and reports its done at the end
-    reg        f_flush_q, f_flushed, f_swap_q;
+    reg        f_flush_q, f_flushed;
+    reg        f_swap_q = 1'b0;
     reg [31:0] f_rd, f_rt;
     reg [7:0]  f_ht;
 
@@ -38,7 +39,7 @@
             f_rd <= rep_data_i;
             f_rt <= rep_tail_i;
         end
-        if (flush_i && f_busy) begin
+        if (flush_i && f_busy && !rst) begin
             f_flushed <= 1'b1;
             if (f_pos == 4'd0 && !m_axis_tready) begin
                 f_swap_q <= 1'b1;
@@ -100,7 +101,6 @@
         assume(rep_n_i <= 4'd8);
         if (f_past_valid && f_flush_q) assume(!flush_i);
         if (f_busy && f_kind == 2'd1) assume(!flush_i);
-        if (f_swap_q) assume(rep_n_i == MSG_N[3:0]);
         // the reply slot and the heartbeat keep their packet while it goes out
         if (f_past_valid && !f_rst_q && f_busy) begin
             if (f_kind == 2'd1 && !f_swap_q) assume(rep_n_i == f_n && rep_data_i == f_rd && rep_tail_i == f_rt);

@@ -7,9 +7,10 @@
 // d1's pin as a one-hot over the pins (pkt_sel_o), each worked out as its
 // byte arrives so that the executor's decisions start from flops. A
 // packet's own bytes d0..d(N-1), and pkt_sel_o with N >= 2, hold on the
-// clock after its pulse as well (the executor's second stage reads them);
-// the slots past N follow the bytes that come next, so after a one-byte
-// packet pkt_d1_o and pkt_sel_o mean nothing.
+// clock after its pulse as well (the executor's second stage reads them).
+// Slot N follows the stream until the next N byte and the slots past it
+// keep older bytes: none of them means anything (after a one-byte packet,
+// pkt_d1_o and pkt_sel_o).
 // Packets for other addresses are consumed silently; N > 8 resyncs on the
 // next byte; a partial packet is dropped after RX_TIMEOUT_US of waiting for a
 // byte.

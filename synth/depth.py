@@ -18,7 +18,8 @@ endpoints grouped by source and sink register; --explain shows the worst path to
 endpoint whose cell.port matches REGEX, with each cell's inputs and their arrivals. --lone
 counts the flops that nextpnr gives a logic cell of their own (their D is not a LUT that drives
 them alone: a flop loaded from a shared net through its enable, or from another flop), by
-register: on a full device they, not the LUTs, decide how many logic cells are left.
+register: on a full device they, not the LUTs, decide how many logic cells are left (it prints
+only that: --over and --explain are for the timing estimate).
 """
 
 from __future__ import annotations
@@ -132,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     try:
         net = Netlist(Path(args.netlist))
-    except (OSError, ValueError, KeyError, StopIteration) as e:
+    except (OSError, ValueError, KeyError, StopIteration, TypeError, AttributeError) as e:
         ap.error(f"{args.netlist}: not a yosys JSON netlist ({e.__class__.__name__}: {e})")
     if args.lone:
         ffs = [n for n in net.cells if net.is_ff(n)]

@@ -21,7 +21,7 @@ def lut(i0: int | str, i3: int | str, o: int) -> dict:
             "port_directions": {"I0": "input", "I1": "input", "I2": "input", "I3": "input", "O": "output"}}
 
 
-def ff(d: int, q: int, e: int | None = None) -> dict:
+def ff(d: int | str, q: int, e: int | None = None) -> dict:
     conn = {"C": [1], "D": [d], "Q": [q]} | ({"E": [e]} if e else {})
     return {"type": "SB_DFFE" if e else "SB_DFF", "connections": conn,
             "port_directions": {k: "output" if k == "Q" else "input" for k in conn}}
@@ -50,8 +50,23 @@ def test_depth(tmp_path: Path, capsys) -> None:
 def test_depth_bad_netlist(tmp_path: Path, capsys) -> None:
     bad = tmp_path / "top.json"
     bad.write_text("not json")
-    for path in (bad, tmp_path / "missing.json"):
+    other = tmp_path / "list.json"
+    other.write_text("[]")
+    for path in (bad, other, tmp_path / "missing.json"):
         with pytest.raises(SystemExit) as e:
             depth.main([str(path), "--lone"])
         assert e.value.code == 2
         assert "not a yosys JSON netlist" in capsys.readouterr().err
+
+
+def test_lone_kinds(tmp_path: Path, capsys) -> None:
+    # c: D constant; d and e: one LUT's output; f: D from a RAM; g: D from its own LUT
+    ram = {"type": "SB_RAM40_4K", "connections": {"RDATA": [20]}, "port_directions": {"RDATA": "output"}}
+    cells = {"c": ff("0", 21), "d": ff(22, 23), "e": ff(22, 24), "x": lut(23, "0", 22), "ram": ram,
+             "f": ff(20, 25), "g": ff(26, 27), "y": lut(25, "0", 26)}
+    net = tmp_path / "top.json"
+    net.write_text(json.dumps({"modules": {"t": {"attributes": {"top": 1}, "cells": cells, "netnames": {}}}}))
+    assert depth.main([str(net), "--lone"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "5 flops, 4 in a logic cell of their own:"
+    assert sorted(line.split()[1] for line in out[1:]) == ["c", "d", "e", "f"]
