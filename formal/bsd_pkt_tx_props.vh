@@ -141,4 +141,5 @@
         cover(timer_done_o && f_past_valid);
         cover(f_hs && m_axis_tlast && f_flushed && f_kind == 2'd0);     // a timer packet finished after a flush
         cover(reply_done_o && f_flushed);                                // a swapped packet sent
+        cover(flush_i && f_busy && f_pos > 4'd1 && !m_axis_tready);      // a flush during a stall past N
     end
