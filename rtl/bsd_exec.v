@@ -152,7 +152,7 @@ module bsd_exec #(
                              input [NUM_PINS-1:0] busy);
         reg [5:0]          dev_pin;
         reg                is_cmd, d0_cfg, d0_io, d0_rst, d0_time, d0_dbg, d0_hb, d0_rset, d0_dig;
-        reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_cfg_r, c_out, c_rst, c_time;
+        reg                n_ge2, n_ge3, n1, n2, pin_ok, dev_ok, c_cfg, c_cfg_rd, c_out, c_rst, c_time;
         reg                look_level, look_in, sel_fixed, sel_timer;
         reg                cfg_w, rst_w, out_w, start, idx_err, m_inv, m_short, cfgerr, cfg_rd, dbg;
         reg                serial, probe, long;
@@ -180,7 +180,7 @@ module bsd_exec #(
             pin_ok  = below(d1, NUM_PINS_W);
             dev_ok  = below({2'b00, dev_pin}, NUM_PINS_W);
             c_cfg   = is_cmd && d0_cfg && n_ge3;    // a DIG_CFG write
-            c_cfg_r = is_cmd && d0_cfg && n2;       // a DIG_CFG read
+            c_cfg_rd = is_cmd && d0_cfg && n2;      // a DIG_CFG read
             c_out   = is_cmd && d0_io && n_ge3;     // a DIG_IO write
             c_rst   = is_cmd && d0_rst && n_ge2;
             c_time  = is_cmd && d0_time && n_ge2;
@@ -214,13 +214,13 @@ module bsd_exec #(
             rst_w   = c_rst && pin_ok;                 // a DIG_RST that re-arms
             out_w   = c_out && pin_ok && !look_in;     // a DIG_IO write that writes
             start   = starts(kind, n[3:1], cmd, sel, in, busy);
-            idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (c_cfg_r && !pin_ok) ||
+            idx_err = ((c_cfg || c_rst || c_out) && !pin_ok) || (c_cfg_rd && !pin_ok) ||
                       (is_cmd && d0_io && n2 && !dev_ok) ||
                       (c_time && !sel_timer);  // (no line of sel is set for a bad DEVCODE pin)
             m_inv   = is_cmd && !cmd[CMDF_ANY];
             m_short = is_cmd && d0_dig && n1;
             cfgerr  = c_cfg && pin_ok && sel_fixed;
-            cfg_rd  = c_cfg_r && pin_ok;
+            cfg_rd  = c_cfg_rd && pin_ok;
             dbg     = is_cmd && d0_dbg;
             serial  = kind == KIND_SERIAL;
             probe   = kind == KIND_PROBE;
@@ -236,7 +236,7 @@ module bsd_exec #(
             // one-hot), and whenever one is set the bytes' other terms are
             // zero or overridden.
             b0 = probe ? 8'd0 : dbg ? CMD_DEBUG : CMD_MSG;
-            b1 = (c_cfg_r || dbg) ? d1 :
+            b1 = (c_cfg_rd || dbg) ? d1 :
                  ({8{serial}}  & MSG_SERIAL_ERROR)  | ({8{m_inv}}   & MSG_CMD_INVALID) |
                  ({8{m_short}} & MSG_CMD_TOO_SHORT);
             rn = probe ? 4'd0 : dbg ? n : MSG_N[3:0];
