@@ -27,12 +27,18 @@ def ff(d: int | str, q: int, e: int | None = None) -> dict:
             "port_directions": {k: "output" if k == "Q" else "input" for k in conn}}
 
 
+def netlist(tmp_path: Path, cells: dict) -> Path:
+    """The cells as a yosys JSON netlist of one top module."""
+    net = tmp_path / "top.json"
+    net.write_text(json.dumps({"modules": {"t": {"attributes": {"top": 1}, "cells": cells, "netnames": {}}}}))
+    return net
+
+
 def test_depth(tmp_path: Path, capsys) -> None:
     # a: Q 10, its D 11 from LUT x (I0 = a.Q), enable 12 from LUT y (I3 = b.Q); b: D 13 from LUT z
     cells = {"a": ff(11, 10, 12), "b": ff(13, 14), "x": lut(10, "0", 11), "y": lut("0", 14, 12),
              "z": lut(10, 14, 13), "w": lut(11, "0", 15)}
-    net = tmp_path / "top.json"
-    net.write_text(json.dumps({"modules": {"t": {"attributes": {"top": 1}, "cells": cells, "netnames": {}}}}))
+    net = netlist(tmp_path, cells)
     eps = {(n, p): (t, lv) for t, lv, n, p, _ in depth.Netlist(net).endpoints()}
     # a.D: x also drives w, so it is not packed: a route and a pass-through LUT before the flop
     assert eps[("a", "D")] == (depth.CLKQ + depth.ROUTE + depth.LUTD["I0"] + depth.ROUTE + depth.LUTD["I0"]
@@ -64,8 +70,7 @@ def test_lone_kinds(tmp_path: Path, capsys) -> None:
     ram = {"type": "SB_RAM40_4K", "connections": {"RDATA": [20]}, "port_directions": {"RDATA": "output"}}
     cells = {"c": ff("0", 21), "d": ff(22, 23), "e": ff(22, 24), "x": lut(23, "0", 22), "ram": ram,
              "f": ff(20, 25), "g": ff(26, 27), "y": lut(25, "0", 26)}
-    net = tmp_path / "top.json"
-    net.write_text(json.dumps({"modules": {"t": {"attributes": {"top": 1}, "cells": cells, "netnames": {}}}}))
+    net = netlist(tmp_path, cells)
     assert depth.main([str(net), "--lone"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "5 flops, 4 in a logic cell of their own:"
