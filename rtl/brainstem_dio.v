@@ -86,6 +86,10 @@ module brainstem_dio #(
     /* verilator coverage_on */
     localparam integer TIMERS = count_timers(0);
     localparam integer NT     = TIMERS == 0 ? 1 : TIMERS;
+    // From this many pins on, bsd_cfg_regs keeps ENA, TSTATE and TMODE in a
+    // memory, read with each packet: the timers then take the start's TMODE
+    // and TSTATE from that read.
+    localparam integer CFG_MEM_PINS = 17;
     // Where a timer number or a device ID comes out of a queue (block RAM,
     // whose bits synthesis cannot see through) or a mux, the bits that no
     // such number or ID of this build can have are given as the constants
@@ -370,13 +374,16 @@ module brainstem_dio #(
     bsd_cfg_regs #(
         .NUM_PINS   (NUM_PINS),
         .FIXED_MASK (FIXED_MASK),
-        .FIXED_CFG  (FIXED_CFG)
+        .FIXED_CFG  (FIXED_CFG),
+        .MEM_PINS   (CFG_MEM_PINS)
     ) u_cfg (
         .clk         (clk),
         .rst         (core_rst),
         .cfg_we_i    (cfg_we),
         .out_we_i    (out_we),
         .sel_i       (wr_pin_sel),
+        .addr_i      (pkt_d1[5:0]),
+        .rd_i        (pkt_valid),
         .cfg_wdata_i (cfg_wdata),
         .out_wdata_i (out_wdata),
         .cfg_o       (cfg),
@@ -428,8 +435,20 @@ module brainstem_dio #(
                 localparam integer PIN = pin_of_timer(p);
                 assign t_level[p]  = level[PIN];
                 assign t_start[p]  = timer_start[PIN];
-                assign t_tmode[p]  = t_mode[PIN];
-                assign t_tstate[p] = t_target[PIN];
+            end
+            // A start takes its pin's TMODE and TSTATE on its clock: each pin's
+            // flops, or with the memory the read of the packet's pin, which is on
+            // every line (given as one bit: gathered bit by bit, a simulator built
+            // the word on every clock).
+            if (NUM_PINS >= CFG_MEM_PINS) begin : g_cfg_mem
+                assign t_tmode  = {NT{t_mode[0]}};
+                assign t_tstate = {NT{t_target[0]}};
+            end else begin : g_cfg_flops
+                for (p = 0; p < NT; p = p + 1) begin : g_mode
+                    localparam integer PIN = pin_of_timer(p);
+                    assign t_tmode[p]  = t_mode[PIN];
+                    assign t_tstate[p] = t_target[PIN];
+                end
             end
             for (p = 0; p < NUM_PINS; p = p + 1) begin : g_scatter
                 if (TIMER_MASK[p]) begin : g_t

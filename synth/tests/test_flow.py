@@ -102,7 +102,8 @@ def test_nextpnr_places_each_design_for_its_own_target(monkeypatch, tmp_path) ->
 
 def _result(name: str, lut4: int, ff: int, fmax: list[float] = (), lcs: int = 0, unplaced: str | None = None) -> dict:
     d = flow.DESIGN[name]
-    return {"design": name, "pins": d.pins, "timers": d.timers, "cells": {"lut4": lut4, "ff": ff, "carry": 0, "ram": 2},
+    return {"design": name, "pins": d.pins, "timers": d.timers, "cells": {"lut4": lut4, "ff": ff, "carry": 0, "ram": 2,
+                                                                          "spram": int(d.pins > 16)},
             "seeds": [{"seed": i + 1, "fmax": f, "lcs": lcs, "lcs_available": 5280} for i, f in enumerate(fmax)],
             "unplaced": unplaced, "date": "2026-12-02 13:07 UTC"}
 
@@ -120,7 +121,8 @@ def test_the_report_computes_slopes_targets_and_the_fit() -> None:
     assert "| core5 LUT4 | ≤ 700 | 600 | met |" in text
     assert "| icebreaker median Fmax (MHz) | ≥ 60 | 61.0 | met |" in text
     assert "| icebreaker worst Fmax (MHz) | ≥ 55 | 58.0 | met |" in text
-    assert "| icebreaker | ice40 | 900 | 700 | 0 | 2 | 1500 | 61.0 / 58.0 / 65.0 | 61.0 / 58.0 |" in text
+    assert "| icebreaker | ice40 | 900 | 700 | 0 | 2 | 0 | 1500 | 61.0 / 58.0 / 65.0 | 61.0 / 58.0 |" in text
+    assert "| core64t | ice40 | 3280 | 2300 | 0 | 2 | 1 |" in text      # its SPRAM
     assert "| uart64t placed, % of logic cells | ≤ 75 | does not fit: 6280 ICESTORM_LC" in text
     assert text.count("**missed**") == 3 and "| LUT4 per step core16 → core64 | ≤ 14 | 20.0 | **missed** |" in text
     assert "| core64 | ice40 |" in text and "| ulx3s | ecp5 | — |" in text
