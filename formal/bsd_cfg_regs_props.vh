@@ -17,10 +17,15 @@
     reg [NUM_PINS-1:0]   f_out, f_out_o_q;
     integer              f_c, f_i, f_k, f_m;
     reg [5*NUM_PINS-1:0] f_out_cfg;   // cfg_o, pin-major
+    reg [2:0]            f_rd;        // with the memory: the last read pin's bits 4, 3, 1
+    reg [5*NUM_PINS-1:0] f_shown;     // what cfg_o shows, pin-major
     always @(*)
-        for (f_m = 0; f_m < NUM_PINS; f_m = f_m + 1)
+        for (f_m = 0; f_m < NUM_PINS; f_m = f_m + 1) begin
             for (f_k = 0; f_k < 5; f_k = f_k + 1)
                 f_out_cfg[5*f_m + f_k] = cfg_o[f_k*NUM_PINS + f_m];
+            f_shown[5*f_m +: 5] = MEM ? {f_rd[2:1], f_cfg[5*f_m + 2], f_rd[0], f_cfg[5*f_m]}
+                                      : f_cfg[5*f_m +: 5];
+        end
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -30,6 +35,10 @@
         f_sel_q      <= sel_i;
         f_cfg_o_q    <= f_out_cfg;
         f_out_o_q    <= out_o;
+        if (rd_i && !rst)
+            f_rd <= addr_i < NUM_PINS ? {f_cfg[5*addr_i + 4], f_cfg[5*addr_i + 3], f_cfg[5*addr_i + 1]}
+                                      : 3'd0;
+        if (rst) f_rd <= 3'd0;
         for (f_c = 0; f_c < NUM_PINS; f_c = f_c + 1) begin
             if (cfg_we_i && sel_i[f_c] && !FIXED_MASK[f_c]) f_cfg[5*f_c +: 5] <= cfg_wdata_i;
             if (out_we_i && sel_i[f_c]) f_out[f_c] <= out_wdata_i;
@@ -42,19 +51,27 @@
 
     always @(*) begin
         if (!f_past_valid) assume(rst);
+        // With the memory, as bsd_exec and bsd_parser drive it: sel_i is addr_i's line (none
+        // past the last pin), and there is no read on a write's clock.
+        if (MEM) begin
+            assume(sel_i == (addr_i < NUM_PINS ? {{(NUM_PINS-1){1'b0}}, 1'b1} << addr_i : {NUM_PINS{1'b0}}));
+            assume(!(rd_i && cfg_we_i));
+        end
         for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
-            if (FIXED_MASK[f_i]) assert(f_out_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
+            if (FIXED_MASK[f_i] && !MEM) assert(f_out_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
             if (f_past_valid) begin
-                assert(oe_o[f_i] == !f_out_cfg[5*f_i]);
-                assert(watch_o[f_i] == (f_out_cfg[5*f_i + 1] && f_out_cfg[5*f_i]));
-                assert(f_out_cfg[5*f_i +: 5] == f_cfg[5*f_i +: 5]);
+                if (FIXED_MASK[f_i]) assert(f_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
+                assert(oe_o[f_i] == !f_cfg[5*f_i]);
+                assert(watch_o[f_i] == (f_cfg[5*f_i + 1] && f_cfg[5*f_i]));
+                assert(f_out_cfg[5*f_i +: 5] == f_shown[5*f_i +: 5]);
                 assert(out_o[f_i] == f_out[f_i]);
                 if (f_rst_q) begin
                     assert(out_o[f_i] == 1'b0);
                     if (!FIXED_MASK[f_i]) assert(f_out_cfg[5*f_i +: 5] == 5'b00001);
                 end else begin
-                    // Only the addressed pin changes.
-                    if (!(f_cfg_we_q && f_sel_q[f_i]))
+                    // Only the addressed pin changes (with the memory, bits 4, 3 and 1
+                    // show the read pin's: the reference above).
+                    if (!(f_cfg_we_q && f_sel_q[f_i]) && !MEM)
                         assert(f_out_cfg[5*f_i +: 5] == f_cfg_o_q[5*f_i +: 5]);
                     if (!(f_out_we_q && f_sel_q[f_i]))
                         assert(out_o[f_i] == f_out_o_q[f_i]);
@@ -63,8 +80,39 @@
         end
     end
 
+    // For induction, with the memory: a free pin's word is its bits 4:3 and 1 once its flag
+    // is set, and those bits are 0 while it is not.
+    generate
+        if (MEM) begin : g_f_mem
+            integer f_w;
+            always @(*)
+                if (f_past_valid)
+                    for (f_w = 0; f_w < NUM_PINS; f_w = f_w + 1)
+                        if (!FIXED_MASK[f_w]) begin
+                            if (g_mem.wr_q[f_w])
+                                assert(g_mem.mem[f_w] == {f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]});
+                            else
+                                assert({f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]} == 3'd0);
+                        end
+        end
+    endgenerate
+
     // Covers: a free pin configured away from its reset value; a fixed pin's output latch
-    // set; a configuration write to a fixed pin (it stays); both writes on one clock.
+    // set; a configuration write to a fixed pin (it stays); both writes on one clock; a pin
+    // written, reset and read (its flag hides the word: 0x01).
+    reg f_dirty0, f_wr_rst;
+    always @(posedge clk) begin
+        if (cfg_we_i && sel_i[0]) begin
+            f_dirty0 <= cfg_wdata_i[4:1] != 4'd0;
+            f_wr_rst <= 1'b0;
+        end
+        if (rst) begin
+            f_dirty0 <= 1'b0;
+            f_wr_rst <= f_past_valid && (f_dirty0 || f_wr_rst);
+        end
+    end
+    always @(*) if (f_past_valid && !f_rst_q)
+        cover(f_wr_rst && f_out_cfg[4:0] == 5'b00001 && f_rd == 3'd0 && f_sel_q == 3'b001);
     always @(*) if (f_past_valid && !f_rst_q) begin
         cover(f_out_cfg[4:0] == 5'b10110);
         cover(out_o[1]);

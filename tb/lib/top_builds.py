@@ -14,9 +14,11 @@ PARAMS: dict[str, Params] = {
     "gp1": Params(),
     # 2 MHz (3.2 clocks per tick, not a multiple of 625 kHz) so the 104.86 ms timeout is
     # ~210k cycles; a 200 us RX timeout; pin 0 a fixed output, pin 3 a fixed input with ENA
-    # armed for rising edges (timer pin too, edge mode towards 0).
-    "slow_fixed": Params(clk_hz=2_000_000, rx_timeout_us=200, fixed_mask=0b01001,
-                         fixed_cfg=(0x07 << 24) | 0x00),
+    # armed for rising edges (timer pin too, edge mode towards 0). 20 pins (timers on 1-4):
+    # from 17 pins on bsd_cfg_regs keeps ENA, TSTATE and TMODE in a memory, so every
+    # command test runs on both forms; pin 18 a fixed input with every bit but TRG.
+    "slow_fixed": Params(clk_hz=2_000_000, rx_timeout_us=200, num_pins=20,
+                         fixed_mask=(1 << 18) | 0b01001, fixed_cfg=(0x1B << 144) | (0x07 << 24) | 0x00),
     # GP 2.0-like: 7 pins, module 4, timers on pins 1-4, 12 MHz, latches sampled every clock,
     # no RX timeout.
     "gp2": Params(num_pins=7, module_addr=4, timer_id_base=11, trans_id_base=20,
