@@ -111,8 +111,10 @@
             f_wr_rst <= f_past_valid && (f_dirty0 || f_wr_rst);
         end
     end
+    reg f_rd0_q;   // a read of pin 0 on the previous clock
+    always @(posedge clk) f_rd0_q <= rd_i && !rst && addr_i == 6'd0;
     always @(*) if (f_past_valid && !f_rst_q)
-        cover(f_wr_rst && f_out_cfg[4:0] == 5'b00001 && f_rd == 3'd0 && f_sel_q == 3'b001);
+        cover(f_wr_rst && f_rd0_q && f_out_cfg[4:0] == 5'b00001);
     always @(*) if (f_past_valid && !f_rst_q) begin
         cover(f_out_cfg[4:0] == 5'b10110);
         cover(out_o[1]);

@@ -7,8 +7,9 @@
 // (its props prove both); the packet's own data bytes (d1 for N >= 2, d3..d(N-1) of
 // pkt_tail_i) unchanged on the clock after pkt_valid_i, as the parser's props prove (a slot past
 // N may take the next byte there, so stage 2 must not need it).
-// cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock
-// (cfg_i is unchanged on the clock after: stage 2 looks up a DIG_CFG read's bits 4:1).
+// cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock,
+// but for a DIG_CFG read's bits 4:1, which stage 2 looks up in cfg_i as it is then (from 17
+// pins on, bsd_cfg_regs shows there the pin it read on stage 1's clock).
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
 // Asserted against a reference decoder written from PROTOCOL.md §2/§3 (precedence
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
@@ -72,8 +73,9 @@
     wire       f_is_in  = f_pin_ok && f_cfg[f_d1[5:0]];     // the pin byte's pin is an input
     wire       f_dev_in = f_dev_ok && f_cfg[f_dp];          // the DEVCODE's pin is an input
     // The pin byte's pin's DIGCFG bits 4:0 (meaningful with f_pin_ok).
-    wire [4:0] f_pin_cfg = {f_cfg[4*NUM_PINS + f_d1[5:0]], f_cfg[3*NUM_PINS + f_d1[5:0]],
-                            f_cfg[2*NUM_PINS + f_d1[5:0]], f_cfg[NUM_PINS + f_d1[5:0]],
+    // (bits 4:1 as cfg_i has them on stage 2's clock, IODIR as on stage 1's: see the header)
+    wire [4:0] f_pin_cfg = {cfg_i[4*NUM_PINS + f_d1[5:0]], cfg_i[3*NUM_PINS + f_d1[5:0]],
+                            cfg_i[2*NUM_PINS + f_d1[5:0]], cfg_i[NUM_PINS + f_d1[5:0]],
                             f_cfg[f_d1[5:0]]};
     wire       f_valid_code = f_d0 == CMD_HB || f_d0 == CMD_DIG_CFG || f_d0 == CMD_DIG_IO ||
                               f_d0 == CMD_DIG_RST || f_d0 == CMD_PTIME_RD || f_d0 == CMD_DEBUG ||
@@ -155,8 +157,6 @@
         // (d1 only for N >= 2: after a one-byte packet the parser's d1 slot takes the next byte)
         if (f_s2 && f_n >= 4'd2) assume(pkt_d1_i == f_d1);
         assume(pkt_sel_i == F_ONE << pkt_d1_i[5:0]);
-        // Only this block's stage 2 writes cfg_i (through bsd_cfg_regs), from the clock after it.
-        if (f_s2) assume(cfg_i == f_cfg);
 
         if (f_past_valid) begin
             assert(s2_valid_o == f_s2);

@@ -117,6 +117,8 @@ MUTANTS = [
      "rd_w = (mem_rd_q & {3{wr_rd_q}}) | fix_rd_q;", "rd_w = mem_rd_q | fix_rd_q;"),
     ("bsd_cfg_regs", "prove_mem", "bsd_cfg_regs.v", "with the memory, a fixed pin reads its memory word",
      "wr_rd_q  <= |(wr_q & ~FIXED_MASK & sel_i);", "wr_rd_q  <= |(wr_q & sel_i);"),
+    ("bsd_cfg_regs", "prove_mem", "bsd_cfg_regs.v", "with the memory, a fixed pin's TMODE reads 0",
+     "fix_rd_q <= {|(FIXED_F[4*NUM_PINS +: NUM_PINS] & FIXED_MASK & sel_i),", "fix_rd_q <= {1'b0,"),
     ("bsd_cfg_regs", "prove_mem", "bsd_cfg_regs.v", "with the memory, the word keeps IODIR where ENA belongs",
      "mem[addr_i] <= {cfg_wdata_i[4:3], cfg_wdata_i[1]};", "mem[addr_i] <= {cfg_wdata_i[4:3], cfg_wdata_i[0]};"),
     ("bsd_heartbeat", "prove", "bsd_heartbeat.v", "a heartbeat due while the previous one is unsent keeps the link up",

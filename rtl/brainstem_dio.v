@@ -443,6 +443,8 @@ module brainstem_dio #(
             if (NUM_PINS >= CFG_MEM_PINS) begin : g_cfg_mem
                 assign t_tmode  = {NT{t_mode[0]}};
                 assign t_tstate = {NT{t_target[0]}};
+                // (every line is the same bit)
+                wire unused_mode = ^{t_mode[NUM_PINS-1:1], t_target[NUM_PINS-1:1]};
             end else begin : g_cfg_flops
                 for (p = 0; p < NT; p = p + 1) begin : g_mode
                     localparam integer PIN = pin_of_timer(p);

@@ -17,8 +17,9 @@
 // they are read for one command at a time (a DIG_CFG read's reply, a timer's
 // start). A read of the pin at addr_i on rd_i's clock (bsd_exec's stage 1)
 // shows its bits on every line of those three fields from the clock after
-// (stage 2) until the next read; there is no read on a write's clock (stage
-// 2 writes; packets are 3 clocks apart). A memory cannot be cleared on reset
+// (stage 2) until the next read (a write does not show before it; after a
+// reset they are 0 until then, fixed pins' too); there is no read on a
+// write's clock (stage 2 writes; packets are 3 clocks apart). A memory cannot be cleared on reset
 // in one clock, so each pin keeps a flag "written since reset", and a pin
 // without it reads its reset (or FIXED) value.
 module bsd_cfg_regs #(
@@ -34,7 +35,7 @@ module bsd_cfg_regs #(
     input  wire                  rst,
     input  wire                  cfg_we_i,
     input  wire                  out_we_i,
-    input  wire [NUM_PINS-1:0]   sel_i,        // the pins both writes address (one-hot or none)
+    input  wire [NUM_PINS-1:0]   sel_i,        // the pin the writes and a read address (one-hot or none)
     input  wire [5:0]            addr_i,       // the pin a read (and, with the memory, a
                                                // configuration write) addresses: sel_i's line
     input  wire                  rd_i,         // read the pin (used only with the memory)

@@ -394,8 +394,10 @@ module bsd_exec #(
     // pins with a select that comes from flops takes about half the LUTs of
     // one with the select decoded in the same clock, whose decoder synthesis
     // merges into each field's mux (64 pins: ~40 LUT4 a field, not ~90).
-    // cfg_i is the same as on stage 1's clock: only this packet's stage 2
-    // writes it, from the clock after. (A ?: with the AND-ORs written out,
+    // cfg_i's bits 4:1 of the pin are as on stage 1's clock (only this
+    // packet's stage 2 writes them, from the clock after) or, from 17 pins
+    // on, bsd_cfg_regs's read of d1's pin on stage 1's clock, shown on every
+    // line from this clock on. (A ?: with the AND-ORs written out,
     // not an AND or a function, so that a simulator works them out only for
     // a read.)
     assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00, |(cfg_i[4*NUM_PINS +: NUM_PINS] & pkt_sel_i),
