@@ -431,26 +431,24 @@ module brainstem_dio #(
             assign timer_busy = {NUM_PINS{1'b0}};
             wire unused_no_timers = ^{timer_start, t_mode, t_target, t_busy};
         end else begin : g_timers
-            for (p = 0; p < NT; p = p + 1) begin : g_gather
-                localparam integer PIN = pin_of_timer(p);
-                assign t_level[p]  = level[PIN];
-                assign t_start[p]  = timer_start[PIN];
-            end
             // A start takes its pin's TMODE and TSTATE on its clock: each pin's
             // flops, or with the memory the read of the packet's pin, which is on
             // every line (given as one bit: gathered bit by bit, a simulator built
             // the word on every clock).
+            for (p = 0; p < NT; p = p + 1) begin : g_gather
+                localparam integer PIN = pin_of_timer(p);
+                assign t_level[p]  = level[PIN];
+                assign t_start[p]  = timer_start[PIN];
+                if (NUM_PINS < CFG_MEM_PINS) begin : g_mode
+                    assign t_tmode[p]  = t_mode[PIN];
+                    assign t_tstate[p] = t_target[PIN];
+                end
+            end
             if (NUM_PINS >= CFG_MEM_PINS) begin : g_cfg_mem
                 assign t_tmode  = {NT{t_mode[0]}};
                 assign t_tstate = {NT{t_target[0]}};
                 // (every line is the same bit)
                 wire unused_mode = ^{t_mode[NUM_PINS-1:1], t_target[NUM_PINS-1:1]};
-            end else begin : g_cfg_flops
-                for (p = 0; p < NT; p = p + 1) begin : g_mode
-                    localparam integer PIN = pin_of_timer(p);
-                    assign t_tmode[p]  = t_mode[PIN];
-                    assign t_tstate[p] = t_target[PIN];
-                end
             end
             for (p = 0; p < NUM_PINS; p = p + 1) begin : g_scatter
                 if (TIMER_MASK[p]) begin : g_t

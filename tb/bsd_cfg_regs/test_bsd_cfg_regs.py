@@ -16,6 +16,7 @@ from __future__ import annotations
 import cocotb
 import pytest
 
+from bsd_model import pin_sel
 from bsd_protocol import DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED
 from clocked_tb import ClockedTB
 import runner
@@ -122,7 +123,7 @@ class CfgTB(ClockedTB):
         if "pin_idx_i" in inputs:
             p = inputs.pop("pin_idx_i")
             inputs["addr_i"] = p
-            inputs["sel_i"] = (1 << p) & ((1 << self.n) - 1)
+            inputs["sel_i"] = pin_sel(p, self.n)
         assert not (inputs.get("rd_i") and inputs.get("cfg_we_i")), "bsd_exec never reads on a write's clock"
         return super().drive(rst, **inputs)
 
