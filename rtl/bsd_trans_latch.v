@@ -29,7 +29,7 @@ module bsd_trans_latch #(
     output wire [WIDTH-1:0] fire_o     // one-clock pulses
 );
     reg [WIDTH-1:0] armed_q;
-    reg [WIDTH-1:0] prev_q;   // meaningful only while armed (an arm loads it): no reset
+    reg [WIDTH-1:0] prev_q;   // meaningful only while armed (an arm loads it)
     reg [WIDTH-1:0] fire_q;
 
     assign fire_o = fire_q;
@@ -70,6 +70,12 @@ module bsd_trans_latch #(
         if (rst) begin
             armed_q <= {WIDTH{1'b0}};
             fire_q  <= {WIDTH{1'b0}};
+            // Only for four-state simulators (Icarus): the arm's XOR load above
+            // keeps an unknown previous level unknown, where a mux would load the
+            // level, so without it a latch armed before the first sample after
+            // power-up missed its first edge there. The flops' synchronous reset
+            // input does it, no gate.
+            prev_q  <= {WIDTH{1'b0}};
         end
     end
 
