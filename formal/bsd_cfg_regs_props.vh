@@ -52,10 +52,14 @@
     always @(*) begin
         if (!f_past_valid) assume(rst);
         // With the memory, as bsd_exec and bsd_parser drive it: sel_i is addr_i's line (none
-        // past the last pin), and there is no read on a write's clock.
+        // past the last pin), there is no read on a write's clock, and neither while the
+        // memory is swept after reset (the core's parser holds packets while busy_o).
         if (MEM) begin
             assume(sel_i == (addr_i < NUM_PINS ? {{(NUM_PINS-1){1'b0}}, 1'b1} << addr_i : {NUM_PINS{1'b0}}));
             assume(!(rd_i && cfg_we_i));
+            if (busy_o && !rst) assume(!rd_i && !cfg_we_i);
+        end else begin
+            assert(!busy_o);
         end
         for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
             if (FIXED_MASK[f_i] && !MEM) assert(f_out_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
@@ -80,26 +84,25 @@
         end
     end
 
-    // For induction, with the memory: a free pin's word is its bits 4:3 and 1 once its flag
-    // is set, and those bits are 0 while it is not.
+    // For induction, with the memory: a pin's word is its bits 4:3 and 1 once the sweep
+    // after reset has passed it (always outside the sweep), and the sweep stops at the
+    // last pin.
     generate
         if (MEM) begin : g_f_mem
             integer f_w;
             always @(*)
-                if (f_past_valid)
+                if (f_past_valid) begin
+                    if (g_mem.clr_q) assert(g_mem.clr_pin_q < NUM_PINS);
                     for (f_w = 0; f_w < NUM_PINS; f_w = f_w + 1)
-                        if (!FIXED_MASK[f_w]) begin
-                            if (g_mem.wr_q[f_w])
-                                assert(g_mem.mem[f_w] == {f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]});
-                            else
-                                assert({f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]} == 3'd0);
-                        end
+                        if (!g_mem.clr_q || f_w < g_mem.clr_pin_q)
+                            assert(g_mem.mem[f_w] == {f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]});
+                end
         end
     endgenerate
 
     // Covers: a free pin configured away from its reset value; a fixed pin's output latch
     // set; a configuration write to a fixed pin (it stays); both writes on one clock; a pin
-    // written, reset and read (its flag hides the word: 0x01).
+    // written, reset and read (the sweep has cleared its word: 0x01).
     reg f_dirty0, f_wr_rst;
     always @(posedge clk) begin
         if (cfg_we_i && sel_i[0]) begin

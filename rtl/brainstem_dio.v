@@ -237,6 +237,7 @@ module brainstem_dio #(
     // a packet handed over then would meet the reply slot as the reset fills
     // it with the power-up message.
     wire       pkt_hold;
+    wire       cfg_busy;   // bsd_cfg_regs clears its memory after reset: no packet meanwhile
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -249,7 +250,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (rst),
         .tick_i        (tick),
-        .hold_i        (pkt_hold),
+        .hold_i        (pkt_hold || cfg_busy),
         .s_axis_tdata  (s_axis_tdata),
         .s_axis_tvalid (s_axis_tvalid),
         .s_axis_tready (s_axis_tready),
@@ -389,7 +390,8 @@ module brainstem_dio #(
         .cfg_o       (cfg),
         .out_o       (out_latch),
         .oe_o        (pin_oe),
-        .watch_o     (pin_watch)
+        .watch_o     (pin_watch),
+        .busy_o      (cfg_busy)
     );
 
     // --------------------------------------------------------- per-pin blocks

@@ -12,16 +12,21 @@
 // frees keep ENA AND IODIR (watch_o): the transition latch then watches a pin
 // on one bit of state rather than two, which saves it a LUT a pin.
 // From MEM_PINS (17) pins on, ENA, TSTATE and TMODE (bits 1, 3, 4) are not
-// flops but a memory of a word a pin (64 pins: about 200 logic cells fewer;
+// flops but a memory of a word a pin (64 pins: about 270 logic cells fewer;
 // on the UP5K an SPRAM with BSD_SPRAM defined, not one of the 30 block RAMs):
 // they are read for one command at a time (a DIG_CFG read's reply, a timer's
 // start). A read of the pin at addr_i on rd_i's clock (bsd_exec's stage 1)
 // shows its bits on every line of those three fields from the clock after
 // (stage 2) until the next read (a write does not show before it; after a
 // reset they are 0 until then, fixed pins' too); there is no read on a
-// write's clock (stage 2 writes; packets are 3 clocks apart). A memory cannot be cleared on reset
-// in one clock, so each pin keeps a flag "written since reset", and a pin
-// without it reads its reset (or FIXED) value.
+// write's clock (stage 2 writes; packets are 3 clocks apart). A memory cannot
+// be cleared in one clock, so after reset the block writes every pin's word
+// with its reset (or FIXED) bits, a pin a clock, and says so on busy_o; the
+// core's parser holds packets meanwhile (NUM_PINS clocks, 64 at most: a
+// sixteenth of a byte's time at 115200 baud and 12 MHz), so no read or write
+// meets the sweep. A flag a pin "written since reset" did the same without
+// the wait, and cost 64 pins about 90 logic cells more (the flags, and the OR
+// over them that a read needs).
 module bsd_cfg_regs #(
     parameter integer               NUM_PINS   = 5,
     parameter [NUM_PINS-1:0]        FIXED_MASK = 0,
@@ -44,10 +49,10 @@ module bsd_cfg_regs #(
     output wire [5*NUM_PINS-1:0] cfg_o,        // every pin's DIGCFG bits 4:0, field-major
     output wire [NUM_PINS-1:0]   out_o,        // every pin's output latch
     output wire [NUM_PINS-1:0]   oe_o,         // every pin's output enable: !IODIR
-    output wire [NUM_PINS-1:0]   watch_o       // every pin's ENA && IODIR: its latch watches it
+    output wire [NUM_PINS-1:0]   watch_o,      // every pin's ENA && IODIR: its latch watches it
+    output wire                  busy_o        // the memory is being cleared: no rd_i or cfg_we_i
 );
-    // Input, latch disarmed. With the memory its bits 4:3 and 1 must stay 0: a
-    // pin whose word is not written since reset reads 0 there.
+    // Input, latch disarmed.
     localparam [4:0] CFG_RESET = 5'b00001;
     localparam [0:0] MEM = NUM_PINS >= MEM_PINS;
 
@@ -64,6 +69,22 @@ module bsd_cfg_regs #(
     endfunction
     /* verilator coverage_on */
     localparam [5*NUM_PINS-1:0] FIXED_F = fixed_fields(0);
+
+    // With the memory: every pin's word after reset, bits {4, 3, 1}, FIXED_CFG's
+    // for a fixed pin and CFG_RESET's for a free one. Called only for a localparam.
+    /* verilator coverage_off */
+    function [191:0] reset_words(input integer unused);
+        integer r;
+        begin
+            reset_words = 192'd0;
+            // (64 words: a NUM_PINS above 64 is the top's parameter check's to reject)
+            for (r = 0; r < NUM_PINS && r < 64; r = r + 1)
+                reset_words[3*r +: 3] = FIXED_MASK[r] ? {FIXED_CFG[8*r + 4], FIXED_CFG[8*r + 3], FIXED_CFG[8*r + 1]}
+                                                      : {CFG_RESET[4], CFG_RESET[3], CFG_RESET[1]};
+        end
+    endfunction
+    /* verilator coverage_on */
+    localparam [191:0] RESET_WORDS = reset_words(0);
 
     // Field-major, DIGCFG bits 4:1 (bit 0, IODIR, is oe_q's inverse); a
     // fixed pin's bits are never read.
@@ -119,8 +140,8 @@ module bsd_cfg_regs #(
             end
         end
         if (MEM) begin : g_mem
-            // A word a pin, 64 whatever NUM_PINS is: an address past the last
-            // pin (never read with its flag) aliases no pin. Outside coverage,
+            // A word a pin, 64 whatever NUM_PINS is (the sweep writes only the
+            // pins'; a read past the last pin shows 0, rd_ok_q). Outside coverage,
             // as the toggle count takes an array's bits below 256 of them,
             // words of no pin included; its data is counted at cfg_o.
             /* verilator coverage_off */
@@ -130,40 +151,60 @@ module bsd_cfg_regs #(
             reg [2:0]          mem [0:63];
             /* verilator coverage_on */
             reg [2:0]          mem_rd_q;
-            reg [NUM_PINS-1:0] wr_q;      // the pin's word is written since reset
-            reg                wr_rd_q;   // the read pin's flag
-            reg [2:0]          fix_rd_q;  // the read pin's FIXED bits 4, 3, 1 (zero for a free pin)
-            integer            q;
+            reg                rd_ok_q;   // the last read since reset was of a pin
+            reg                clr_q;     // the sweep after reset
+            reg [5:0]          clr_pin_q; // the pin it writes
+            localparam [5:0]   LAST_PIN    = NUM_PINS[5:0] - 6'd1;
+            localparam [63:0]  PIN_ADDR    = {64{1'b1}} >> (64 - NUM_PINS);  // the addresses of pins
             always @(posedge clk) begin
-                if (cfg_we_i) begin
-                    for (q = 0; q < NUM_PINS; q = q + 1)
-                        if (sel_i[q]) wr_q[q] <= 1'b1;
-                end
-                if (rd_i && !cfg_we_i) begin
-                    wr_rd_q  <= |(wr_q & ~FIXED_MASK & sel_i);
-                    fix_rd_q <= {|(FIXED_F[4*NUM_PINS +: NUM_PINS] & FIXED_MASK & sel_i),
-                                 |(FIXED_F[3*NUM_PINS +: NUM_PINS] & FIXED_MASK & sel_i),
-                                 |(FIXED_F[1*NUM_PINS +: NUM_PINS] & FIXED_MASK & sel_i)};
+                if (rd_i && !cfg_we_i) rd_ok_q <= PIN_ADDR[addr_i];
+                if (clr_q) begin
+                    clr_pin_q <= clr_pin_q + 6'd1;
+                    if (clr_pin_q == LAST_PIN) clr_q <= 1'b0;
                 end
                 if (rst) begin
-                    wr_q     <= {NUM_PINS{1'b0}};   // ENA, TSTATE and TMODE read as CFG_RESET's: 0
-                    wr_rd_q  <= 1'b0;               // (and no unknown word before a first read)
-                    fix_rd_q <= 3'd0;
+                    rd_ok_q   <= 1'b0;   // the fields read 0 until the first read
+                    clr_q     <= 1'b1;
+                    clr_pin_q <= 6'd0;
                 end
             end
-            // The memory's ports apart from reset (a block or single-port RAM has none).
+            // The memory's one port, apart from reset (a block or single-port
+            // RAM has none), with one address (an SPRAM has one): the sweep, else
+            // a write (a fixed pin's word is FIXED_CFG's for good: writes pass it
+            // by, as its flops above), else a read.
+            wire [5:0] mem_addr = clr_q ? clr_pin_q : addr_i;
             always @(posedge clk) begin
-                if (cfg_we_i)
-                    mem[addr_i] <= {cfg_wdata_i[4:3], cfg_wdata_i[1]};
-                else if (rd_i)
-                    mem_rd_q <= mem[addr_i];
+                if (clr_q) begin
+                    mem[mem_addr] <= RESET_WORDS[3*clr_pin_q +: 3];
+                end else if (cfg_we_i) begin
+                    if (!(|(sel_i & FIXED_MASK))) mem[mem_addr] <= {cfg_wdata_i[4:3], cfg_wdata_i[1]};
+                end else if (rd_i) begin
+                    mem_rd_q <= mem[mem_addr];
+                end
             end
-            // Kept as one net: synthesis would otherwise fold the flag's AND into
+`ifndef SYNTHESIS
+`ifndef FORMAL  // Yosys takes no $fatal in an always block; the props assume it
+            // The core's promise (its parser holds packets while busy_o), checked
+            // in every simulation: a read or write would meet the sweep. A check
+            // that fires only on a design error: outside coverage.
+            /* verilator coverage_off */
+            always @(posedge clk) begin
+                if (clr_q) begin
+                    if (!rst && (rd_i || cfg_we_i))
+                        $fatal(1, "bsd_cfg_regs: a read or write while the memory is cleared");
+                end
+            end
+            /* verilator coverage_on */
+`endif
+`endif
+            // Kept as one net: synthesis would otherwise fold the AND into
             // each timer's start logic (TMODE and TSTATE go to every timer).
-            (* keep *) wire [2:0] rd_w = (mem_rd_q & {3{wr_rd_q}}) | fix_rd_q;
+            (* keep *) wire [2:0] rd_w = mem_rd_q & {3{rd_ok_q}};
             assign rd_bits = rd_w;
+            assign busy_o  = clr_q;
         end else begin : g_no_mem
             assign rd_bits = 3'd0;
+            assign busy_o  = 1'b0;
             wire unused_rd = ^{addr_i, rd_i, rd_bits};
         end
     endgenerate

@@ -8,7 +8,9 @@ output latch stays writable). The writes land at the edge that sees them; cfg_o 
 come from flops (or constants). From 17 pins on, ENA, TSTATE and TMODE (DIGCFG bits 1, 3, 4)
 are a memory read with each packet: those fields of cfg_o then show the read pin's bits on
 every line, from the clock after a read (rd_i, never on a write's clock, as bsd_exec) until the
-next one, and 0 after reset. CfgModel is compared with every output after every clock.
+next one, and 0 after reset; the block writes every pin's word after reset, a pin a clock, and
+busy_o is set for those NUM_PINS clocks, in which no read or write may come (the core's parser
+holds packets). CfgModel is compared with every output after every clock.
 """
 
 from __future__ import annotations
@@ -58,8 +60,9 @@ def vint(v: object) -> int:
 
 
 class CfgModel:
-    def __init__(self, n: int, fixed_mask: int, fixed_cfg: int) -> None:
-        self.n, self.fixed_mask, self.fixed_cfg = n, fixed_mask, fixed_cfg
+    def __init__(self, n: int, fixed_mask: int, fixed_cfg: int, mem: bool) -> None:
+        self.n, self.fixed_mask, self.fixed_cfg, self.mem = n, fixed_mask, fixed_cfg, mem
+        self.busy = 0
         self.reset()
 
     def fixed(self, p: int) -> bool:
@@ -70,11 +73,13 @@ class CfgModel:
                     for p in range(self.n)]
         self.out = [0] * self.n
         self.rd = 0   # with the memory: the last read pin's bits 4, 3 and 1
+        self.busy = self.n if self.mem else 0   # clocks of the memory's sweep left
 
     def read(self, addr: int) -> None:
         self.rd = self.cfg[addr] & READ_BITS if addr < self.n else 0
 
     def step(self, v: dict) -> None:
+        self.busy = max(self.busy - 1, 0)
         for p in range(self.n):
             if (v["sel_i"] >> p) & 1:
                 if v["cfg_we_i"] and not self.fixed(p):
@@ -82,12 +87,12 @@ class CfgModel:
                 if v["out_we_i"]:
                     self.out[p] = v["out_wdata_i"]
 
-    def outputs(self, mem: bool) -> dict[str, int]:
+    def outputs(self) -> dict[str, int]:
         # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0; watch_o: its
         # transition latch watches it while ENA and IODIR are both 1.
         watch = DIGCFG_ENA | DIGCFG_IODIR
-        shown = [c & ~READ_BITS | self.rd for c in self.cfg] if mem else self.cfg
-        return dict(cfg_o=pack_cfg(shown),
+        shown = [c & ~READ_BITS | self.rd for c in self.cfg] if self.mem else self.cfg
+        return dict(cfg_o=pack_cfg(shown), busy_o=int(self.busy > 0),
                     out_o=sum(o << p for p, o in enumerate(self.out)),
                     oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)),
                     watch_o=sum(int(c & watch == watch) << p for p, c in enumerate(self.cfg)))
@@ -108,14 +113,14 @@ def unpack_cfg(word: int, n: int, p: int) -> int:
 class CfgTB(ClockedTB):
     INPUTS = dict(cfg_we_i=0, out_we_i=0, sel_i=0, addr_i=0, rd_i=0, cfg_wdata_i=0, out_wdata_i=0)
     PULSES = ("cfg_we_i", "out_we_i", "rd_i")
-    OUTPUTS = ("cfg_o", "out_o", "oe_o", "watch_o")
+    OUTPUTS = ("cfg_o", "out_o", "oe_o", "watch_o", "busy_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "cfg_regs")
         p = hdl_params()
         self.n = int(p["NUM_PINS"])
         self.mem = self.n >= MEM_FROM
-        self.model = CfgModel(self.n, vint(p.get("FIXED_MASK", 0)), vint(p.get("FIXED_CFG", 0)))
+        self.model = CfgModel(self.n, vint(p.get("FIXED_MASK", 0)), vint(p.get("FIXED_CFG", 0)), self.mem)
 
     def drive(self, rst: int = 0, **inputs: int) -> dict[str, int]:
         # pin_idx_i=p stands for what bsd_exec and bsd_parser send: addr_i = p and its
@@ -125,7 +130,15 @@ class CfgTB(ClockedTB):
             inputs["addr_i"] = p
             inputs["sel_i"] = pin_sel(p, self.n)
         assert not (inputs.get("rd_i") and inputs.get("cfg_we_i")), "bsd_exec never reads on a write's clock"
+        assert rst or not (self.model.busy and (inputs.get("rd_i") or inputs.get("cfg_we_i"))), \
+            "the core's parser holds packets while busy_o"
         return super().drive(rst, **inputs)
+
+    async def reset(self, cycles: int = 2) -> None:
+        """Reset, then wait out the memory's sweep (busy_o, checked against the model)."""
+        await super().reset(cycles)
+        while self.model.busy:
+            await self.step()
 
     def check(self, inputs, outputs, rst) -> None:
         if rst:
@@ -134,7 +147,7 @@ class CfgTB(ClockedTB):
             if inputs["rd_i"]:
                 self.model.read(inputs["addr_i"])
             self.model.step(inputs)
-        exp = self.model.outputs(self.mem)
+        exp = self.model.outputs()
         assert dict(outputs) == exp, f"{inputs} rst={rst}: DUT {outputs} != model {exp}"
 
     async def cfg(self, p: int) -> int:
@@ -147,7 +160,7 @@ class CfgTB(ClockedTB):
 async def test_reset_values(dut) -> None:
     """After reset: every free pin 0x01 (input, disarmed), every fixed pin FIXED_CFG's bits
     4:0 (ENA as given: armed), every output latch 0; also after writes to every pin and a
-    second reset (with the memory, its words are then still written: the flags hide them)."""
+    second reset (with the memory, its words are then still written: the sweep clears them)."""
     tb = CfgTB(dut)
     await tb.reset()
     out = await tb.step()
@@ -163,7 +176,7 @@ async def test_reset_values(dut) -> None:
                                                       for p in range(tb.n)]
     await tb.reset(1)
     out = await tb.step()
-    assert out["out_o"] == 0 and out == tb.model.outputs(tb.mem)
+    assert out["out_o"] == 0 and out == tb.model.outputs()
     for p in range(tb.n):
         assert await tb.cfg(p) == tb.model.cfg[p]
 
@@ -226,9 +239,11 @@ async def test_random_vs_model(dut) -> None:
         idx = rng.randrange(tb.n + 2) if rng.random() < 0.9 else rng.randrange(64)
         # (with the memory, sel_i must be addr_i's line, as the parser gives them)
         where = dict(pin_idx_i=idx) if tb.mem or rng.random() < 0.9 else dict(sel_i=rng.getrandbits(tb.n))
-        cfg_we = int(rng.random() < 0.4)
+        # (no read or configuration write while the memory is swept after a reset)
+        free = not tb.model.busy
+        cfg_we = int(free and rng.random() < 0.4)
         await tb.step(rst=int(rng.random() < 0.003), cfg_we_i=cfg_we,
-                      rd_i=int(not cfg_we and rng.random() < 0.5),
+                      rd_i=int(free and not cfg_we and rng.random() < 0.5),
                       out_we_i=int(rng.random() < 0.4), cfg_wdata_i=rng.randrange(32),
                       out_wdata_i=rng.randrange(2), **where)
 
