@@ -100,3 +100,67 @@
         cover(take_hb && f_items == 4'd5);                     // a full entry's last item
         cover(b_ord_q && !b_rep_q && !b_hb_q && b_res_q == 16'd0 && rflx_valid_q == 1'b0);  // a timeout's item
     end
+
+    // The runs' HOST and RFLX bits' memory form (MEM_TIMERS lowered by the prove_mem and
+    // cover_mem tasks). Starts are free but never come while hold_o (the top's parser hold)
+    // and only for an idle timer, which is busy from its start until its finish goes through
+    // stage A (earlier than the real release, its result's delivery: a weaker assumption);
+    // a run's one finish (f, with or without r) comes in an entry offered after its start
+    // (f_busy is a flop) and before the run's next. Asserted: stage A's bits of a finish
+    // are its timer's last start's (a shadow per timer); hold_o is exactly "a write is
+    // pending"; the pending word is its timer's last start's and no entry with that timer's
+    // finish was loaded since it (so the write lands first: on the next load's clock at the
+    // latest); every busy timer's word not pending is in the memory; the memory's address
+    // on a clock with an item is step()'s pick.
+    generate
+        if (MEM) begin : g_f_hr
+            reg  [NT-1:0] f_busy, f_fsent, f_sh_h, f_sh_r, f_via_pend;
+            wire [NT-1:0] f_fin_in = ev_data_i[NT+25 -: NT];
+            wire [NT-1:0] f_start  = start_i ? {{(NT-1){1'b0}}, 1'b1} << start_idx_i : {NT{1'b0}};
+            wire [NT-1:0] f_done   = a_t_q && at(f_q) ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
+            always @(posedge clk) begin
+                f_busy  <= (f_busy & ~f_done) | f_start;
+                f_fsent <= (f_fsent | (next && ev_valid_i && ev_timers_i ? f_fin_in : {NT{1'b0}})) & ~f_start;
+                if (start_i) begin
+                    f_sh_h     <= (f_sh_h & ~f_start) | (f_start & {NT{start_host_i}});
+                    f_sh_r     <= (f_sh_r & ~f_start) | (f_start & {NT{start_rflx_i}});
+                    f_via_pend <= (f_via_pend & ~f_start) | (f_start & {NT{!next}});
+                end
+                if (rst) begin
+                    f_busy  <= {NT{1'b0}};
+                    f_fsent <= {NT{1'b0}};
+                end
+            end
+            always @(*) begin
+                assume(!(start_i && hold_o));
+                if (start_i) assume(start_idx_i < NT && (f_busy & f_start) == {NT{1'b0}});
+                if (ev_valid_i && ev_timers_i) assume((f_fin_in & ~(f_busy & ~f_fsent)) == {NT{1'b0}});
+                if (f_past_valid && !rst && !f_rst_q) begin
+                    assert(hold_o == g_hr.hp_q);
+                    if (g_hr.hp_q) begin
+                        assert(g_hr.hp_k_q < NT);
+                        assert(f_busy[g_hr.hp_k_q] && !f_fsent[g_hr.hp_k_q]);
+                        assert(g_hr.hp_d_q == {f_sh_h[g_hr.hp_k_q], f_sh_r[g_hr.hp_k_q]});
+                    end
+                    if (!next) assert(g_hr.hr_a == k);
+                    if (a_t_q && at(f_q)) begin
+                        assert(f_busy[a_k_q] && f_fsent[a_k_q]);
+                        assert(g_hr.hr_rd_q == {f_sh_h[a_k_q], f_sh_r[a_k_q]});
+                    end
+                end
+            end
+            genvar f_g;
+            for (f_g = 0; f_g < NT; f_g = f_g + 1) begin : g_f_t
+                always @(*) if (f_past_valid && !rst && !f_rst_q) begin
+                    if (f_busy[f_g] && !(g_hr.hp_q && g_hr.hp_k_q == f_g))
+                        assert(g_hr.hr_mem[f_g] == {f_sh_h[f_g], f_sh_r[f_g]});
+                    if (rem_q[f_g] && f_q[f_g]) assert(f_busy[f_g] && f_fsent[f_g]);
+                    if (a_t_q && a_k_q == f_g && at(f_q)) assert(f_busy[f_g] && f_fsent[f_g]);
+                end
+            end
+            always @(*) if (f_past_valid && !f_rst_q && !rst) begin
+                cover(a_t_q && at(f_q) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
+                cover(start_i && !next);                                             // a start during a pick
+            end
+        end
+    endgenerate

@@ -237,7 +237,11 @@ module brainstem_dio #(
     // a packet handed over then would meet the reply slot as the reset fills
     // it with the power-up message.
     wire       pkt_hold;
-    wire       cfg_busy;   // bsd_cfg_regs clears its memory after reset: no packet meanwhile
+    // From 17 pins on, bsd_cfg_regs clears its memory after reset (no packet
+    // meanwhile); from 17 timers on, bsd_drain's write of a start's HOST and
+    // RFLX bits may be pending (0 below: the runs' bits are bsd_timer_bank's flops).
+    wire       cfg_busy;
+    wire       drain_hold;
     wire       pkt_valid;
     wire [1:0] pkt_kind;
     wire [3:0] pkt_n;
@@ -250,7 +254,7 @@ module brainstem_dio #(
         .clk           (clk),
         .rst           (rst),
         .tick_i        (tick),
-        .hold_i        (pkt_hold || cfg_busy),
+        .hold_i        (pkt_hold || cfg_busy || drain_hold),
         .s_axis_tdata  (s_axis_tdata),
         .s_axis_tvalid (s_axis_tvalid),
         .s_axis_tready (s_axis_tready),
@@ -601,6 +605,11 @@ module brainstem_dio #(
         .empty_o       (drain_empty),
         .run_host_i    (timer_host_pend),
         .run_rflx_i    (timer_rflx_pend),
+        .start_i       (timer_go),
+        .start_idx_i   (timer_idx),
+        .start_host_i  (timer_host),
+        .start_rflx_i  (timer_rflx),
+        .hold_o        (drain_hold),
         .order_valid_o (order_valid),
         .order_data_o  (order_data),
         .rflx_done_o   (rflx_done),

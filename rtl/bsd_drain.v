@@ -25,6 +25,13 @@
 // waits for the host link: the output queue has room for every packet that
 // can be waiting (one per timer, the reply, the heartbeat), so RFLX strobes
 // are never held back by it.
+//
+// A finish's HOST and RFLX bits are its run's (the timer's last start's): up
+// to 16 timers bsd_timer_bank's flops (run_host_i, run_rflx_i); from
+// MEM_TIMERS (17) on a word a timer in a one-port memory here, written from
+// the start ports and read at the pick (see "the runs' HOST and RFLX bits"
+// below, with why a write can wait and still lands first); hold_o then holds
+// the parser while a start's write waits.
 module bsd_drain #(
     parameter integer        NUM_PINS      = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK    = 5'b11110,
@@ -41,7 +48,11 @@ module bsd_drain #(
     parameter integer        DIO_ID_HI     = 63,
     // Above 16 timers the pick works in groups of this many (below; at least
     // 1); the proof sets 4, so that a few timers make several groups.
-    parameter integer        PICK_GROUP    = 16
+    parameter integer        PICK_GROUP    = 16,
+    // From this many timers on, the runs' HOST and RFLX bits are a memory
+    // here (below), not run_host_i/run_rflx_i. The proof lowers it to check
+    // the memory form on a few timers.
+    parameter integer        MEM_TIMERS    = 17
 ) (
     input  wire                       clk,
     input  wire                       rst,
@@ -56,9 +67,19 @@ module bsd_drain #(
     input  wire                       ev_timers_i,
     output wire                       ev_ready_o,
     output wire                       empty_o,      // no item left (a flop)
-    // each timer's run's HOST and RFLX bits (bsd_timer_bank)
+    // each timer's run's HOST and RFLX bits (bsd_timer_bank; below MEM_TIMERS only)
     input  wire [NT-1:0]              run_host_i,
     input  wire [NT-1:0]              run_rflx_i,
+    // a timer's start (bsd_exec's stage 2: timer_go_o and its number, HOST and
+    // RFLX bits; from MEM_TIMERS on only) and "a start's write is pending": no
+    // start may come while it is set (the parser's hold, below)
+    /* verilator lint_off UNUSEDSIGNAL */  // (below MEM_TIMERS)
+    input  wire                       start_i,
+    input  wire [5:0]                 start_idx_i,
+    input  wire                       start_host_i,
+    input  wire                       start_rflx_i,
+    /* verilator lint_on UNUSEDSIGNAL */
+    output wire                       hold_o,
     // to the transmitter's queue: {kind, timer, its device ID, result}
     output wire                       order_valid_o,
     output wire [29:0]                order_data_o,
@@ -387,13 +408,96 @@ module bsd_drain #(
     reg  [5:0] b_id_q;
     wire [5:0] a_id = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];
 
+    // ------------------------------------- the runs' HOST and RFLX bits
+    // From MEM_TIMERS timers on, a word a timer in a memory of one port, not
+    // a flop pair a timer in bsd_timer_bank (each flop a logic cell alone on
+    // iCE40: 128 at 64 timers) and two 64:1 lookups by a_k_q here. On the
+    // UP5K (BSD_SPRAM) it is an SPRAM, as bsd_cfg_regs's memory, since the
+    // 64-timer core uses all the block RAMs it may have; one port is all an
+    // SPRAM has. The memory reads on every clock with an item (not next), at
+    // the pick's index beside ref_mem (stage A reads hr_rd_q). A start's word
+    // is written on its own clock when that has no read (next), else it waits
+    // in hp_* and is written on the first clock with next; meanwhile hold_o
+    // holds the parser, so no second start comes before it is written. A
+    // packet handed over on clock v starts its timer on v+1 (bsd_exec's
+    // stage 2) and hold_o shows from v+2 until the write's clock w. The
+    // parser hands over no packet on a clock after one with pkt_valid or with
+    // hold (its proof), and bsd_reply_slot holds on v+1 (pkt_valid_i), so the
+    // next handover is on v+3 at the earliest and looks at the hold on the
+    // clock before it: v+2 or later, where hold_o shows; so it comes on w+2
+    // at the earliest and its start on w+3. (hold_o, a flop, shows only from
+    // the clock after the start: enough, as handovers are 3 clocks apart.) So the
+    // pending word is never overwritten, and no start comes on the clock that
+    // writes it (an assumption of the proof). The write lands before any read that
+    // matters: only a finish's item uses the bits, a finish of the started
+    // timer is an event after the start, in an entry loaded after the start's
+    // clock, and every load clock is a clock with next, so a pending write is
+    // done by then (on the load's clock at the latest) and the finish's pick
+    // reads later. The timer's next start comes only after the finish is
+    // delivered (after stage B), so the word stays until it is read. No
+    // reset: every start writes its timer's word before its finish can read
+    // it, and a core reset drops a pending write with the runs it belonged to.
+    localparam [0:0] MEM = NT >= MEM_TIMERS;
+    // The runs' bits stage A reads by a_k_q: in the memory form the read word
+    // on every line (at() of equal bits is the bit), so that the stage's RTL
+    // is the small builds' as it was; the memory form is all in g_hr, so that
+    // the small builds elaborate none of it (their netlist, and so GP 1.0's
+    // mapping, unchanged: dead code in the shared clocked block moved core5's
+    // by a few LUTs).
+    wire [NT-1:0] run_host_w, run_rflx_w;
+    generate
+        if (MEM) begin : g_hr
+            /* verilator coverage_off */
+`ifdef BSD_SPRAM
+            (* ram_style = "huge" *)
+`endif
+            reg [1:0]  hr_mem [0:63];  // {HOST, RFLX} of each timer's last start
+            /* verilator coverage_on */
+            reg [1:0]  hr_rd_q;        // the picked timer's word, for stage A
+            reg        hp_q;           // a start's word waits to be written
+            reg [5:0]  hp_k_q;
+            reg [1:0]  hp_d_q;
+            // The pick's index, as step() works it out (synthesis merges the
+            // two), as a wire here: step_v is a value inside the clocked block.
+            wire [5:0] pick_k = index_of(NT > GS ? low_grp : lowest(rem_q));
+            // One address for the read and the write, whose enables are
+            // exclusive (next), so that the memory is one port as written.
+            wire [5:0] hr_a   = next ? (hp_q ? hp_k_q : start_idx_i) : pick_k;
+            // The port apart from reset (an SPRAM has none).
+            always @(posedge clk) begin
+                if (next) begin
+                    if (hp_q || start_i) hr_mem[hr_a] <= hp_q ? hp_d_q : {start_host_i, start_rflx_i};
+                end else begin
+                    hr_rd_q <= hr_mem[hr_a];
+                end
+            end
+            always @(posedge clk) begin
+                if (next) hp_q <= 1'b0;
+                if (!next && start_i) begin
+                    hp_q   <= 1'b1;
+                    hp_k_q <= start_idx_i;
+                    hp_d_q <= {start_host_i, start_rflx_i};
+                end
+                if (rst) hp_q <= 1'b0;
+            end
+            assign run_host_w = {NT{hr_rd_q[1]}};
+            assign run_rflx_w = {NT{hr_rd_q[0]}};
+            assign hold_o     = hp_q;
+            wire unused_run = ^{run_host_i, run_rflx_i};
+        end else begin : g_no_hr
+            assign run_host_w = run_host_i;
+            assign run_rflx_w = run_rflx_i;
+            assign hold_o     = 1'b0;
+        end
+    endgenerate
+
     always @(posedge clk) begin
         // Stage B's data are loaded only with an item of their kind (order_data_o
         // and rflx_idx_o are read only with their valid flags).
         if (a_t_q) begin
-            b_ord_q   <= at(f_q) && at(run_host_i);
-            b_rdone_q <= at(f_q) && at(run_rflx_i);
-            b_free_q  <= at(f_q) && at(run_rflx_i) && !at(run_host_i);
+            b_ord_q   <= at(f_q) && at(run_host_w);
+            b_rdone_q <= at(f_q) && at(run_rflx_w);
+            b_free_q  <= at(f_q) && at(run_rflx_w) && !at(run_host_w);
             b_res_q   <= elapsed(t_q, ref_rd_q);
             if (at(r_q)) b_res_q <= 16'd0;  // with a f bit: a timeout
             b_k_q     <= a_k_q;

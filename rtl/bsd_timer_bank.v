@@ -25,7 +25,9 @@
 // gate on two 8-way decodes per timer replace a flag and a 64-way decoder
 // per delivery; the run's HOST and RFLX bits (run_host_o, run_rflx_o, read
 // by the drain at a finish) are only loaded at a start (a flop with an
-// enable, no gate).
+// enable, no gate). From 17 timers on the top leaves them unread and
+// synthesis drops them: bsd_drain keeps the bits in a memory (a flop that
+// loads with an enable and no gate takes an iCE40 logic cell alone).
 //
 // Width mode is edge mode twice: a pulse's beginning is an edge to the
 // target, after which the target is inverted, so its end is an edge to the

@@ -4,7 +4,8 @@
 completions landing on the timeout clock; completions on 64 successive clocks (the event
 queue's sizing); the output stalled for 200 ms with every timer's
 result waiting (nothing lost, RFLX strobes not held back); ±1 tick on 64 timers at 2, 2.5,
-12 and 48 MHz; a restart right after a delivery.
+12 and 48 MHz; a restart right after a delivery; a restart during the drain's run of 64
+picks (its HOST and RFLX bits' write pending, the parser held).
 
 The clock of a completion is set from the pads: a pad driven right after the edge E ends a
 measurement on the clock E + 3 (two synchronizer flops, then the edge is seen), the clock a
@@ -457,6 +458,55 @@ async def test_every_pin_output_and_latch(dut) -> None:
     for pin in ids:                                        # the strobes checked by tb.command
         await tb.command(m, packet(A, CMD_DIG_IO, DEVCODE_RFLX | pin))
     assert len(tb.rflx) == n_rflx + len(ids), tb.rflx[n_rflx:]
+    tb.check_no_errors()
+
+
+@cocotb.test(skip=not runner.on("t64_2"))
+async def test_restart_during_a_run_of_picks(dut) -> None:
+    """From 17 timers a run's HOST and RFLX bits are a word in bsd_drain's one-port memory,
+    read on every clock of a run of picks, so a start in such a run is written later, the
+    parser held meanwhile (hold_o). All 64 RFLX-only timers complete on one clock (64 picks
+    in a row); timer 0, freed by the run's first strobe, is restarted with HOST alone while
+    the run goes on: the drain must show the write pending, the 64 strobes must come, and
+    the restarted run's result must be a packet (no strobe), as the model says."""
+    need(P.timer_mask == ALL, "a timer on every pin")
+    tb, m = await setup(dut, pins=0)
+    await set_pins_checked(tb, m, 0)
+    starts = await start_all(tb, m, DIGCFG_IODIR | DIGCFG_TSTATE, DEVCODE_RFLX)  # edge mode, to 1
+    n_rflx = len(tb.rflx)
+    tb.set_pins(ALL)
+    t_pad = tb.now_s()
+    while len(tb.rflx) == n_rflx:
+        await RisingEdge(dut.clk)
+        await ReadOnly()
+    await FallingEdge(dut.clk)
+    again = packet(A, CMD_PTIME_RD, DEVCODE_HOST | 0)
+    item = tb.source.send_nowait(again)
+    held = 0
+    for _ in range(40):  # (the packet's bytes and its 2 stages, well inside the 64 picks)
+        await RisingEdge(dut.clk)
+        await ReadOnly()
+        held += int(dut.u_drain.hold_o.value)
+    assert held > 0, "the restart's write was not pending: no start during the run of picks"
+    t0 = (await tb.source.wait_sent(item))[-1]
+    await tb.cycles(400)
+    exp = m.timers_complete(all_results(tb, m, starts, t_pad))
+    m.set_pins(ALL)
+    await tb.expect(exp, what="64 strobes")
+    exp = m.feed(again)
+    assert not exp.packets, "the model sees timer 0 busy"
+    await tb.expect(exp, what="the restart (no tmrConflict)")
+    tb.set_pin(0, 0)
+    m.set_pin(0, 0)
+    await tb.cycles(20)
+    tb.set_pin(0, 1)
+    t_pad = tb.now_s()
+    await tb.cycles(300)
+    got = timer_value(tb, m, 0)
+    if got is None:
+        raise TBError("the restarted run (HOST alone): no packet")
+    check_result(0, got, t_pad - t0)
+    await tb.expect(m.timer_complete(0, got), what="the restarted run's packet, no strobe")
     tb.check_no_errors()
 
 

@@ -10,6 +10,9 @@ T - reference (1 when that is 0, 0 for a timeout: a timer's r and f bits togethe
 bit is (with the timer's rflx_done_o when its HOST bit is not: then the strobe frees it); the reply and the heartbeat become items, the
 DIG_IO value a strobe. DrainModel is that text; the item and strobe sequences must equal it.
 The entries come from a queue model with random gaps, several per clock's worth of events.
+A timer's HOST and RFLX bits are its last start's: run_host_i/run_rflx_i below MEM_TIMERS
+timers, the start ports from then on (a memory in the drain; a start while the drain picks
+waits, with hold_o set, and no start comes while hold_o is: test_starts).
 """
 
 from __future__ import annotations
@@ -32,6 +35,11 @@ BUILDS = {
     "sparse": {"NUM_PINS": 8, "TIMER_MASK": "8'b10100110", "TIMER_ID_BASE": 3, "NT": 4},
     "mid": {"NUM_PINS": 16, "TIMER_MASK": "16'b1101111011101110", "TIMER_ID_BASE": 3, "NT": 12},
     "wide": {"NUM_PINS": 24, "TIMER_MASK": "24'b111011111101111101111110", "TIMER_ID_BASE": 3, "NT": 20},
+    # full: 64 timers, the 64-timer core's drain (the runs' bits a memory, as from 17 timers:
+    # wide's too); gp1mem: GP 1.0's timers with the memory form (MEM_TIMERS lowered), so that
+    # its short entries put starts on clocks with and without a read.
+    "full": {"NUM_PINS": 64, "TIMER_MASK": "64'b" + "1" * 64, "TIMER_ID_BASE": 0, "NT": 64},
+    "gp1mem": {"NUM_PINS": 5, "TIMER_MASK": "5'b11110", "TIMER_ID_BASE": 10, "NT": 4, "MEM_TIMERS": 2},
 }
 TIMER, REPLY, HB = 0, 1, 2
 
@@ -41,9 +49,10 @@ def mask_of(text: str) -> int:
 
 
 class DrainTB(ClockedTB):
-    INPUTS = dict(ev_valid_i=0, ev_data_i=0, ev_timers_i=0, run_host_i=0, run_rflx_i=0)
+    INPUTS = dict(ev_valid_i=0, ev_data_i=0, ev_timers_i=0, run_host_i=0, run_rflx_i=0,
+                  start_i=0, start_idx_i=0, start_host_i=0, start_rflx_i=0)
     OUTPUTS = ("ev_ready_o", "order_valid_o", "order_data_o", "rflx_done_o", "rflx_idx_o",
-               "rflx_valid_o", "rflx_id_o", "rflx_data_o")
+               "rflx_valid_o", "rflx_id_o", "rflx_data_o", "hold_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "drain")
@@ -51,6 +60,9 @@ class DrainTB(ClockedTB):
         self.nt = int(p["NT"])
         mask, base = mask_of(str(p["TIMER_MASK"])), int(p["TIMER_ID_BASE"])
         self.ids = [base + q for q in range(int(p["NUM_PINS"])) if mask >> q & 1]
+        # From MEM_TIMERS timers on the runs' bits come from the start ports (a memory in
+        # the drain), below from run_host_i/run_rflx_i (bsd_timer_bank's flops).
+        self.mem = self.nt >= int(p.get("MEM_TIMERS", 17))
 
     def sample(self) -> dict[str, int]:
         """Data outputs are meaningful only with their valid (unreset flops read X on Icarus
@@ -76,6 +88,18 @@ class DrainTB(ClockedTB):
         out = self.sample()
         await RisingEdge(self.clk)
         return out
+
+
+async def load_bits(tb: DrainTB, host: int, rflx: int) -> None:
+    """The memory form: a start of every timer with its bits (the drain idle: each written on
+    its clock), as the runs' bits before entries that assume them."""
+    if not tb.mem:
+        return
+    for k in range(tb.nt):
+        out = await tb.edge(start_i=1, start_idx_i=k, start_host_i=host >> k & 1, start_rflx_i=rflx >> k & 1)
+        assert out["ev_ready_o"] and not out["hold_o"]
+    out = await tb.edge(start_i=0)
+    assert not out["hold_o"]
 
 
 def model(tb: DrainTB, entries: list[dict], host: int, rflx: int) -> tuple[list, list]:
@@ -132,6 +156,7 @@ async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
                             dio_val=rng.randrange(2), t=t, seed=rng.getrandbits(24)))
     entries = [e for e in entries if e["r"] | e["f"] | e["rep"] | e["dio"] | e["hb"]]
     want_items, want_strobes = model(tb, entries, host, rflx)
+    await load_bits(tb, host, rflx)
     got_items, got_strobes, done = [], [], []
     i = 0
     for _ in range((nt + 8) * len(entries) + 40):  # an item a clock, gaps between entries
@@ -195,6 +220,7 @@ async def test_item_a_clock(dut) -> None:
     e1 = tb.entry(full, 0, 0, 0, 0, 0, 0, 100)
     e2 = tb.entry(0, full, 1, 1, 1, 0, 1, 200)
     e3 = tb.entry(0, 0, 1, 0, 0, 0, 0, 300)
+    await load_bits(tb, full, 0)
     taken = []
     for c in range(3 * nt + 20):
         pend = [e for j, e in enumerate((e1, e2, e3)) if j >= len(taken)]
@@ -207,6 +233,144 @@ async def test_item_a_clock(dut) -> None:
             taken.append(c)
     # e1: nt reference items; e2: DIG_IO (ID 0 first), nt finishes, reply, hb.
     assert taken[1] - taken[0] == nt + 1 and taken[2] - taken[1] == nt + 4, taken
+
+
+async def run_starts(tb: DrainTB, n_clocks: int, p_gap: float) -> None:
+    """Timers started (start_i, as bsd_exec's stage 2: never while hold_o) at random, with
+    random HOST and RFLX bits, each restarted only once its last result is delivered; their
+    references and finishes come in entries made after the start, several timers an entry, so
+    that starts meet the drain both idle (written on their clock) and in a run of picks
+    (pending: hold_o set from the next clock until the first clock the drain takes an entry).
+    Every finish must be delivered with the bits of its own last start; hold_o must be
+    exactly that pending flag (always 0 below MEM_TIMERS, where run_host_i/run_rflx_i model
+    bsd_timer_bank's flops, loaded on the clock after the start)."""
+    rng, nt, ids = tb.rng, tb.nt, tb.ids
+    bits = [(0, 0)] * nt          # each timer's last start's (HOST, RFLX)
+    via_pend = [False] * nt       # that start's write was pending
+    state = ["idle"] * nt         # idle, ref (reference due), fin (finish due), owed (result owed)
+    started = [-1] * nt           # the clock of the last start
+    ref: list[int | None] = [None] * nt
+    run_host = run_rflx = 0       # bsd_timer_bank's flops (the small form's inputs)
+    queue: list[int] = []         # entries made and not yet taken (words), with their timer flag
+    flags: list[int] = []
+    want_items, want_strobes, want_done = [], [], []
+    got_items, got_strobes, got_done = [], [], []
+    pend = 0                      # the drain's pending write, as hold_o must show it
+    n_pend = n_direct = n_pend_fin = 0
+    t = rng.randrange(65536)
+    c = tail = 0
+    while tail < 8:  # (8 clocks after the last entry and result: the stages' last strobes)
+        tail = 0 if c < n_clocks or queue or "owed" in state else tail + 1
+        assert c < n_clocks + 40 * (nt + 8), f"not drained: {len(queue)} entries, owed {state.count('owed')}"
+        await FallingEdge(tb.clk)
+        gen = c < n_clocks
+        hold = int(tb.dut.hold_o.value)
+        ready = int(tb.dut.ev_ready_o.value)  # (flops: stable from the rising edge)
+        assert hold == pend, f"clock {c}: hold_o {hold}, pending {pend}"
+        kw = dict(start_i=0, run_host_i=run_host, run_rflx_i=run_rflx)
+        t = (t + rng.choice([0, 0, 1, 3])) & 0xFFFF
+        # the entry of the events of earlier clocks (timers started before this clock)
+        if gen and rng.random() < 0.6:
+            r = f = 0
+            for k in range(nt):
+                if started[k] >= c or rng.random() < 0.4:
+                    continue
+                if state[k] == "ref":
+                    if rng.random() < 0.15:
+                        r, f, state[k] = r | 1 << k, f | 1 << k, "owed"   # a timeout
+                    else:
+                        r, state[k] = r | 1 << k, "fin"
+                elif state[k] == "fin":
+                    if rng.random() < 0.1:
+                        r, f, state[k] = r | 1 << k, f | 1 << k, "owed"
+                    else:
+                        f, state[k] = f | 1 << k, "owed"
+            rep, dio, hb = int(rng.random() < 0.2), int(rng.random() < 0.2), int(rng.random() < 0.1)
+            dio_id, dio_val = (rng.choice(ids + [0, 63]) if dio else 0), rng.randrange(2)
+            if r | f | rep | dio | hb:
+                queue.append(tb.entry(r, f, rep, dio, hb, dio_id, dio_val, t))
+                flags.append(int(bool(r | f)))
+                order = [k for k in range(nt) if (r | f) >> k & 1]
+                pos = next((i for i, k in enumerate(order) if ids[k] > dio_id), len(order))
+                for i, k in enumerate(order + [None]):
+                    if dio and i == pos:
+                        want_strobes.append((dio_id, dio_val))
+                    if k is None:
+                        break
+                    if r >> k & 1 and not f >> k & 1:
+                        ref[k] = t
+                        continue
+                    res = 0 if r >> k & 1 else max(1, (t - ref[k]) & 0xFFFF)
+                    h, x = bits[k]
+                    n_pend_fin += via_pend[k]
+                    if h:
+                        want_items.append((TIMER, k, ids[k], res))
+                    if x:
+                        want_strobes.append((ids[k], res))
+                    if x and not h:
+                        want_done.append(k)
+                if rep:
+                    want_items.append((REPLY,))
+                if hb:
+                    want_items.append((HB,))
+        # a start (never while hold_o)
+        idle = [k for k in range(nt) if state[k] == "idle"]
+        if gen and not hold and idle and rng.random() < 0.5:
+            k = rng.choice(idle)
+            h, x = rng.choice([(1, 0), (0, 1), (1, 1), (1, 1), (0, 0)])
+            kw.update(start_i=1, start_idx_i=k, start_host_i=h, start_rflx_i=x)
+            bits[k], via_pend[k], started[k] = (h, x), tb.mem and not ready, c
+            state[k] = "ref" if h | x else "idle"   # (no events without either bit)
+            n_pend += tb.mem and not ready
+            n_direct += not (tb.mem and not ready)
+            run_host = run_host & ~(1 << k) | h << k
+            run_rflx = run_rflx & ~(1 << k) | x << k
+        if queue and rng.random() >= p_gap:
+            kw.update(ev_valid_i=1, ev_timers_i=flags[0], ev_data_i=queue[0])
+        else:
+            kw.update(ev_valid_i=0)
+        tb.drive(0, **kw)
+        await ReadOnly()
+        out = tb.sample()
+        if tb.mem:
+            pend = int((kw["start_i"] and not ready) or (pend and not ready))
+        if kw["ev_valid_i"] and out["ev_ready_o"]:
+            queue.pop(0)
+            flags.pop(0)
+        if out["order_valid_o"]:
+            d = out["order_data_o"]
+            kind = d >> 28
+            got_items.append((TIMER, d >> 22 & 63, d >> 16 & 63, d & 0xFFFF) if kind == TIMER else (kind,))
+            if kind == TIMER:
+                assert state[d >> 22 & 63] == "owed"
+                state[d >> 22 & 63] = "idle"        # delivered: may start again
+        if out["rflx_valid_o"]:
+            got_strobes.append((out["rflx_id_o"], out["rflx_data_o"]))
+        if out["rflx_done_o"]:
+            got_done.append(out["rflx_idx_o"])
+            assert state[out["rflx_idx_o"]] == "owed"
+            state[out["rflx_idx_o"]] = "idle"
+        await RisingEdge(tb.clk)
+        c += 1
+    for what, got, want in (("items", got_items, want_items), ("strobes", got_strobes, want_strobes),
+                            ("done", got_done, want_done)):
+        i = next((i for i, (g, w) in enumerate(zip(got, want)) if g != w), min(len(got), len(want)))
+        assert got == want, f"{what} from {i}: {got[i:i + 6]} != {want[i:i + 6]} ({len(got)}, {len(want)})"
+    tb.log.info("starts: %d pending, %d direct; finishes of a pending start: %d; items %d, strobes %d",
+                n_pend, n_direct, n_pend_fin, len(want_items), len(want_strobes))
+    assert len(want_items) > 50 and len(want_strobes) > 50
+    if tb.mem:
+        assert n_pend > 20 and n_direct > 20 and n_pend_fin > 20
+
+
+@cocotb.test()
+async def test_starts(dut) -> None:
+    """Starts among the entries: every finish delivered with its own last start's HOST and
+    RFLX bits; from MEM_TIMERS timers on, a start during a run of picks waits (hold_o) and
+    is written before its timer's finish is read."""
+    tb = DrainTB(dut)
+    await tb.reset()
+    await run_starts(tb, 3000, 0.2)
 
 
 @pytest.mark.parametrize("sim, build", runner.cases(BUILDS, quick="verilator"))
