@@ -102,30 +102,41 @@ async def load_bits(tb: DrainTB, host: int, rflx: int) -> None:
     assert not out["hold_o"]
 
 
+def model_entry(tb: DrainTB, e: dict, ref: list, host: int, rflx: int, items: list, strobes: list) -> list[int]:
+    """One entry's output-queue items and RFLX strobes, appended in order, with the runs'
+    HOST and RFLX bits `host` and `rflx` (`ref`: each timer's reference, updated); returns
+    the timers it finishes (a result or a timeout), in order."""
+    order = [("t", k) for k in range(tb.nt) if (e["r"] | e["f"]) >> k & 1]
+    if e["dio"]:
+        pos = next((i for i, (_, k) in enumerate(order) if tb.ids[k] > e["dio_id"]), len(order))
+        order.insert(pos, ("dio", 0))
+    finished = []
+    for what, k in order:
+        if what == "dio":
+            strobes.append((e["dio_id"], e["dio_val"]))
+        elif e["r"] >> k & 1 and not e["f"] >> k & 1:
+            ref[k] = e["t"]
+        else:
+            res = 0 if e["r"] >> k & 1 else max(1, (e["t"] - ref[k]) & 0xFFFF)
+            if host >> k & 1:
+                items.append((TIMER, k, tb.ids[k], res))
+            if rflx >> k & 1:
+                strobes.append((tb.ids[k], res))
+            finished.append(k)
+    if e["rep"]:
+        items.append((REPLY,))
+    if e["hb"]:
+        items.append((HB,))
+    return finished
+
+
 def model(tb: DrainTB, entries: list[dict], host: int, rflx: int) -> tuple[list, list]:
     """The output-queue items and RFLX strobes the entries must give, in order."""
-    ref = [None] * tb.nt
-    items, strobes = [], []
+    ref: list[int | None] = [None] * tb.nt
+    items: list = []
+    strobes: list = []
     for e in entries:
-        order = [("t", k) for k in range(tb.nt) if (e["r"] | e["f"]) >> k & 1]
-        if e["dio"]:
-            pos = next((i for i, (_, k) in enumerate(order) if tb.ids[k] > e["dio_id"]), len(order))
-            order.insert(pos, ("dio", 0))
-        for what, k in order:
-            if what == "dio":
-                strobes.append((e["dio_id"], e["dio_val"]))
-            elif e["r"] >> k & 1 and not e["f"] >> k & 1:
-                ref[k] = e["t"]
-            else:
-                res = 0 if e["r"] >> k & 1 else max(1, (e["t"] - ref[k]) & 0xFFFF)
-                if host >> k & 1:
-                    items.append((TIMER, k, tb.ids[k], res))
-                if rflx >> k & 1:
-                    strobes.append((tb.ids[k], res))
-        if e["rep"]:
-            items.append((REPLY,))
-        if e["hb"]:
-            items.append((HB,))
+        model_entry(tb, e, ref, host, rflx, items, strobes)
     return items, strobes
 
 
@@ -290,29 +301,13 @@ async def run_starts(tb: DrainTB, n_clocks: int, p_gap: float) -> None:
             if r | f | rep | dio | hb:
                 queue.append(tb.entry(r, f, rep, dio, hb, dio_id, dio_val, t))
                 flags.append(int(bool(r | f)))
-                order = [k for k in range(nt) if (r | f) >> k & 1]
-                pos = next((i for i, k in enumerate(order) if ids[k] > dio_id), len(order))
-                for i, k in enumerate(order + [None]):
-                    if dio and i == pos:
-                        want_strobes.append((dio_id, dio_val))
-                    if k is None:
-                        break
-                    if r >> k & 1 and not f >> k & 1:
-                        ref[k] = t
-                        continue
-                    res = 0 if r >> k & 1 else max(1, (t - ref[k]) & 0xFFFF)
-                    h, x = bits[k]
+                host = sum(h << k for k, (h, _) in enumerate(bits))
+                rflx = sum(x << k for k, (_, x) in enumerate(bits))
+                e = dict(r=r, f=f, rep=rep, dio=dio, hb=hb, dio_id=dio_id, dio_val=dio_val, t=t)
+                for k in model_entry(tb, e, ref, host, rflx, want_items, want_strobes):
                     n_pend_fin += via_pend[k]
-                    if h:
-                        want_items.append((TIMER, k, ids[k], res))
-                    if x:
-                        want_strobes.append((ids[k], res))
-                    if x and not h:
+                    if rflx >> k & 1 and not host >> k & 1:
                         want_done.append(k)
-                if rep:
-                    want_items.append((REPLY,))
-                if hb:
-                    want_items.append((HB,))
         # a start (never while hold_o)
         idle = [k for k in range(nt) if state[k] == "idle"]
         if gen and not hold and idle and rng.random() < 0.5:
