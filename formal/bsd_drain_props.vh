@@ -181,7 +181,7 @@
             always @(*) if (f_past_valid && !f_rst_q && !rst) begin
                 cover(a_t_q && at(ent_f) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
                 cover(start_i && !next);                                             // a start during a pick
-                cover(held && f_items == 4'd2 && a_t_q && b_ord_q);                  // a held entry's last item in stage A
+                cover(next && held && f_items == 4'd2 && a_t_q && b_ord_q);                  // a held entry's last item in stage A
             end
         end
     endgenerate

@@ -131,8 +131,8 @@ module bsd_drain #(
 
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
-    // their r and f bits (r_q, f_q: only loaded, read by stage A's index;
-    // below, ent_r and ent_f).
+    // their r and f bits (r_q, f_q: only loaded; stage A reads them as ent_r
+    // and ent_f below MEM_TIMERS, and nothing reads them from it on).
     reg [NT-1:0]       rem_q, r_q, f_q;
     reg                rep_q, dio_q, hb_q;
     reg [5:0]          dio_id_q;
@@ -306,9 +306,11 @@ module bsd_drain #(
     wire                more   = !f_last;
 `endif
     // "No item left" as a flop of its own (not the OR of the entry's bits):
-    // the next entry is taken when it is set, the clock after the last item
-    // (one idle clock between entries), so the queue's read enable and the
-    // top's queue-skip test start at a flop, not at the pick. Items remain
+    // the next entry is loaded when it is set, the clock after the last item
+    // (one idle clock between entries; from MEM_TIMERS a clock later after
+    // an entry with timer events, below), so the queue's read enable and the
+    // top's queue-skip test start at a flop, not at the pick (from
+    // MEM_TIMERS the read enable also takes the head's timer bit). Items remain
     // after a clock that takes no entry when two or more were there; after
     // one that takes an entry, the new entry's own.
     reg                 empty_q;
@@ -569,7 +571,8 @@ module bsd_drain #(
             ref_rd_q <= ref_mem[step_v[5:0]];
         end
         if (load) begin
-            // The entry: loaded as the last one's last item goes, then one item a clock.
+            // The entry: loaded the clock after the last one's last item (two
+            // clocks after a held one), then one item a clock.
             rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
             any_t_q   <= ev_t;
             rep_q     <= ev_valid_i && ev_data_i[25];
