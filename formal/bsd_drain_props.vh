@@ -7,14 +7,20 @@
 // a clock; timers in ascending order; the DIG_IO value before the first timer whose ID is
 // above its own and after every timer whose ID is not; the reply after every timer and the
 // DIG_IO value, the heartbeat last; every item of an entry taken exactly once before the
-// next entry is taken (nothing lost or repeated), and the next one taken on the clock after
-// the last item goes (an item every clock, and one idle clock between entries).
+// next entry is loaded (nothing lost or repeated), and the next one loaded on the clock after
+// the last item goes (an item every clock, and one idle clock between entries), or in the
+// memory form (from MEM_TIMERS) a clock later after an entry with timer events: stage A
+// reads its r, f and T from the queue's head, so it is taken from the queue only on that
+// idle clock. Asserted for both forms: each entry offered is loaded once and taken once,
+// after or as it loads, and stage A's r, f and T are its entry's (a copy made here).
     reg                f_past_valid = 1'b0;
     reg                f_rst_q, f_v_q, f_r_q, f_t_q;
     reg [2*NT+25:0]    f_d_q;
     reg [3:0]          f_items, f_taken;
     reg                f_have_k, f_dio_done;
     reg [5:0]          f_last_k;
+    reg                f_loaded;           // the head's entry was loaded and is not yet taken
+    reg [2*NT+25:0]    f_e_q;              // the entry loaded last
     integer            f_j2;
     wire [5:0]         k_id = CONTIG ? ID0 + k : IDS[6*k +: 6];  // the picked timer's ID
 
@@ -52,13 +58,17 @@
             f_last_k <= k;
         end
         if (take_dio) f_dio_done <= 1'b1;
-        if (next) begin
+        if (ev_valid_i && ev_ready_o) f_loaded <= 1'b0;
+        else if (load && ev_valid_i)  f_loaded <= 1'b1;
+        if (load) begin
+            f_e_q      <= ev_data_i;
             f_items    <= ev_valid_i ? f_count(ev_data_i, ev_timers_i) : 4'd0;
             f_taken    <= 4'd0;
             f_have_k   <= 1'b0;
             f_dio_done <= 1'b0;
         end
         if (rst) begin
+            f_loaded <= 1'b0;
             f_items <= 4'd0;
             f_taken <= 4'd0;
             f_have_k <= 1'b0;
@@ -89,7 +99,17 @@
             assert(f_taken <= f_items);
             assert(f_taken + f_left(rem) == f_items);
             if (next) assert(f_taken + {1'b0, f_takes} == f_items);
-            assert(ev_ready_o == next);
+            // each entry loaded once and taken once, after or as it loads; the copies'
+            // form takes it as it loads, the memory form an entry without timer events too
+            assert(f_loaded == held);
+            if (load && ev_valid_i) assert(!f_loaded);
+            if (ev_valid_i && ev_ready_o) assert(f_loaded || load);
+            if (!MEM || !(ev_valid_i && ev_timers_i)) assert(ev_ready_o == next);
+            if (f_loaded) assert(ev_valid_i && ev_timers_i && ev_data_i == f_e_q);
+            // stage A's r, f and T are its entry's
+            if (a_t_q) assert(ent_r == f_e_q[2*NT+25 -: NT] && ent_f == f_e_q[NT+25 -: NT] &&
+                              ent_t == f_e_q[15:0]);
+            if (MEM && (a_t_q || any_t_q)) assert(f_loaded);
             assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
             assert(any_t_q == |rem);
         end
@@ -117,10 +137,10 @@
             reg  [NT-1:0] f_busy, f_fsent, f_sh_h, f_sh_r, f_via_pend;
             wire [NT-1:0] f_fin_in = ev_data_i[NT+25 -: NT];
             wire [NT-1:0] f_start  = start_i ? {{(NT-1){1'b0}}, 1'b1} << start_idx_i : {NT{1'b0}};
-            wire [NT-1:0] f_done   = a_t_q && at(f_q) ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
+            wire [NT-1:0] f_done   = a_t_q && at(ent_f) ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
             always @(posedge clk) begin
                 f_busy  <= (f_busy & ~f_done) | f_start;
-                f_fsent <= (f_fsent | (next && ev_valid_i && ev_timers_i ? f_fin_in : {NT{1'b0}})) & ~f_start;
+                f_fsent <= (f_fsent | (load && ev_valid_i && ev_timers_i ? f_fin_in : {NT{1'b0}})) & ~f_start;
                 if (start_i) begin
                     f_sh_h     <= (f_sh_h & ~f_start) | (f_start & {NT{start_host_i}});
                     f_sh_r     <= (f_sh_r & ~f_start) | (f_start & {NT{start_rflx_i}});
@@ -134,7 +154,7 @@
             always @(*) begin
                 assume(!(start_i && hold_o));
                 if (start_i) assume(start_idx_i < NT && (f_busy & f_start) == {NT{1'b0}});
-                if (ev_valid_i && ev_timers_i) assume((f_fin_in & ~(f_busy & ~f_fsent)) == {NT{1'b0}});
+                if (ev_valid_i && ev_timers_i && !f_loaded) assume((f_fin_in & ~(f_busy & ~f_fsent)) == {NT{1'b0}});
                 if (f_past_valid && !rst && !f_rst_q) begin
                     assert(hold_o == g_hr.hp_q);
                     if (g_hr.hp_q) begin
@@ -143,7 +163,7 @@
                         assert(g_hr.hp_d_q == {f_sh_h[g_hr.hp_k_q], f_sh_r[g_hr.hp_k_q]});
                     end
                     if (!next) assert(g_hr.hr_a == k);
-                    if (a_t_q && at(f_q)) begin
+                    if (a_t_q && at(ent_f)) begin
                         assert(f_busy[a_k_q] && f_fsent[a_k_q]);
                         assert(g_hr.hr_rd_q == {f_sh_h[a_k_q], f_sh_r[a_k_q]});
                     end
@@ -154,13 +174,14 @@
                 always @(*) if (f_past_valid && !rst && !f_rst_q) begin
                     if (f_busy[f_g] && !(g_hr.hp_q && g_hr.hp_k_q == f_g))
                         assert(g_hr.hr_mem[f_g] == {f_sh_h[f_g], f_sh_r[f_g]});
-                    if (rem_q[f_g] && f_q[f_g]) assert(f_busy[f_g] && f_fsent[f_g]);
-                    if (a_t_q && a_k_q == f_g && at(f_q)) assert(f_busy[f_g] && f_fsent[f_g]);
+                    if (rem_q[f_g] && ent_f[f_g]) assert(f_busy[f_g] && f_fsent[f_g]);
+                    if (a_t_q && a_k_q == f_g && at(ent_f)) assert(f_busy[f_g] && f_fsent[f_g]);
                 end
             end
             always @(*) if (f_past_valid && !f_rst_q && !rst) begin
-                cover(a_t_q && at(f_q) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
+                cover(a_t_q && at(ent_f) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
                 cover(start_i && !next);                                             // a start during a pick
+                cover(next && held && f_items == 4'd2 && a_t_q && b_ord_q);                  // a held entry's last item in stage A
             end
         end
     endgenerate

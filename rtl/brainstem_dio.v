@@ -88,8 +88,11 @@ module brainstem_dio #(
     localparam integer NT     = TIMERS == 0 ? 1 : TIMERS;
     // From this many pins on, bsd_cfg_regs keeps ENA, TSTATE and TMODE in a
     // memory, read with each packet: the timers then take the start's TMODE
-    // and TSTATE from that read.
-    localparam integer CFG_MEM_PINS = 17;
+    // and TSTATE from that read. From this many timers on, bsd_drain keeps
+    // the runs' HOST and RFLX bits in a memory and reads an entry's timer
+    // events from the event queue's head. One threshold for both blocks (the
+    // 64-pin, 64-timer build's area; below it the flops are the smaller).
+    localparam integer MEM_FROM = 17;
     // Where a timer number or a device ID comes out of a queue (block RAM,
     // whose bits synthesis cannot see through) or a mux, the bits that no
     // such number or ID of this build can have are given as the constants
@@ -380,7 +383,7 @@ module brainstem_dio #(
         .NUM_PINS   (NUM_PINS),
         .FIXED_MASK (FIXED_MASK),
         .FIXED_CFG  (FIXED_CFG),
-        .MEM_PINS   (CFG_MEM_PINS)
+        .MEM_PINS   (MEM_FROM)
     ) u_cfg (
         .clk         (clk),
         .rst         (core_rst),
@@ -445,12 +448,12 @@ module brainstem_dio #(
                 localparam integer PIN = pin_of_timer(p);
                 assign t_level[p]  = level[PIN];
                 assign t_start[p]  = timer_start[PIN];
-                if (NUM_PINS < CFG_MEM_PINS) begin : g_mode
+                if (NUM_PINS < MEM_FROM) begin : g_mode
                     assign t_tmode[p]  = t_mode[PIN];
                     assign t_tstate[p] = t_target[PIN];
                 end
             end
-            if (NUM_PINS >= CFG_MEM_PINS) begin : g_cfg_mem
+            if (NUM_PINS >= MEM_FROM) begin : g_cfg_mem
                 assign t_tmode  = {NT{t_mode[0]}};
                 assign t_tstate = {NT{t_target[0]}};
                 // (every line is the same bit)
@@ -594,7 +597,8 @@ module brainstem_dio #(
         .TIMER_ID_BASE (TIMER_ID_BASE),
         .NT            (NT),
         .DIO_ID_LO     (PIN_ID_BASE),
-        .DIO_ID_HI     (PIN_ID_BASE + NUM_PINS - 1)
+        .DIO_ID_HI     (PIN_ID_BASE + NUM_PINS - 1),
+        .MEM_TIMERS    (MEM_FROM)
     ) u_drain (
         .clk           (clk),
         .rst           (core_rst),

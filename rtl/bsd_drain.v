@@ -131,7 +131,8 @@ module bsd_drain #(
 
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
-    // their r and f bits (r_q, f_q: only loaded, read by stage A's index).
+    // their r and f bits (r_q, f_q: only loaded; stage A reads them as ent_r
+    // and ent_f below MEM_TIMERS, and nothing reads them from it on).
     reg [NT-1:0]       rem_q, r_q, f_q;
     reg                rep_q, dio_q, hb_q;
     reg [5:0]          dio_id_q;
@@ -305,9 +306,11 @@ module bsd_drain #(
     wire                more   = !f_last;
 `endif
     // "No item left" as a flop of its own (not the OR of the entry's bits):
-    // the next entry is taken when it is set, the clock after the last item
-    // (one idle clock between entries), so the queue's read enable and the
-    // top's queue-skip test start at a flop, not at the pick. Items remain
+    // the next entry is loaded when it is set, the clock after the last item
+    // (one idle clock between entries; from MEM_TIMERS a clock later after
+    // an entry with timer events, below), so the queue's read enable and the
+    // top's queue-skip test start at a flop, not at the pick (from
+    // MEM_TIMERS the read enable also takes the head's timer bit). Items remain
     // after a clock that takes no entry when two or more were there; after
     // one that takes an entry, the new entry's own.
     reg                 empty_q;
@@ -315,13 +318,55 @@ module bsd_drain #(
     wire [NT-1:0]       ev_rf     = ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT];
     wire                ev_t      = ev_valid_i && ev_timers_i;
     wire                ev_items  = ev_t || |ev_data_i[25:23];
-    assign ev_ready_o = next;
     assign empty_o    = empty_q;
+
+    // ------------------------------------------- the entry's r, f and T
+    // Stage A reads a timer item's r and f bits and the entry's T. Up to
+    // MEM_TIMERS timers they are copies (r_q, f_q, t_q), loaded with the
+    // entry, which is taken from the queue as it loads. From MEM_TIMERS on
+    // they are read from the queue's head itself (the event queue's RAM read
+    // register), and synthesis drops the copies, which nothing reads: 2 NT +
+    // 16 flops fewer, each an iCE40 logic cell of its own (a flop loaded
+    // from a shared net; 144 at 64 timers). An entry with
+    // timer events is then taken (ev_ready_o) only on the next clock with
+    // next, when its last item has been through stage A; that clock loads
+    // nothing (held_q), and the next entry loads on the clock after it. So
+    // such an entry costs a clock more: its items, then two idle clocks.
+    // The head stays as it is until taken (AXI-Stream). An entry without
+    // timer events (which stage A reads nothing of: the DIG_IO value has
+    // copies of its own) is taken as it loads, as before, so that one may
+    // come past the queue (the top's skip path).
+    localparam [0:0] MEM = NT >= MEM_TIMERS;
+    wire [NT-1:0] ent_r, ent_f;
+    wire [15:0]   ent_t;
+    wire          held;  // the entry on the queue's head was loaded: take it, load nothing
+    generate
+        if (MEM) begin : g_head
+            reg held_q;
+            always @(posedge clk) begin
+                if (next) held_q <= !held_q && ev_t;
+                if (rst) held_q <= 1'b0;
+            end
+            assign held       = held_q;
+            assign ent_r      = ev_data_i[2*NT+25 -: NT];
+            assign ent_f      = ev_data_i[NT+25 -: NT];
+            assign ent_t      = ev_data_i[15:0];
+            assign ev_ready_o = next && (held_q || !ev_t);
+            wire unused_copies = ^{r_q, f_q, t_q};
+        end else begin : g_copy
+            assign held       = 1'b0;
+            assign ent_r      = r_q;
+            assign ent_f      = f_q;
+            assign ent_t      = t_q;
+            assign ev_ready_o = next;
+        end
+    endgenerate
+    wire          load = next && !held;
 
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_dio_q, a_rep_q, a_hb_q;
     reg [5:0]  a_k_q;
-    // Stage A reads the entry's T and DIG_IO value from t_q, dio_id_q and
+    // Stage A reads the entry's T and DIG_IO value from ent_t, dio_id_q and
     // dio_val_q: they hold the entry until the clock after its last item.
     reg        b_dio_val_q;
     reg        b_dio_q, b_rep_q, b_hb_q;
@@ -333,7 +378,7 @@ module bsd_drain #(
         end
     endfunction
     // Stage A's timer's bit of a timer vector: the entry's r and f bits
-    // (r_q and f_q still hold its entry: the next one loads on the clock
+    // (ent_r and ent_f still hold its entry: the next one loads on the clock
     // after its last item at the earliest) and the run's HOST and RFLX bits,
     // read by index, not by the pick's one-hot. Called only on a timer's
     // clock in stage A (a_t_q), so a simulator reads them only then.
@@ -367,7 +412,7 @@ module bsd_drain #(
     reg [15:0] ref_rd_q;
     reg [NT+14:0] step_v;  // the pick's step, read only on its clock (below)
     always @(posedge clk) begin
-        if (a_t_q) ref_mem[a_k_q] <= t_q;
+        if (a_t_q) ref_mem[a_k_q] <= ent_t;
     end
 
     // T - reference as T + ~reference + 1: iCE40's carry chain takes its
@@ -437,7 +482,6 @@ module bsd_drain #(
     // delivered (after stage B), so the word stays until it is read. No
     // reset: every start writes its timer's word before its finish can read
     // it, and a core reset drops a pending write with the runs it belonged to.
-    localparam [0:0] MEM = NT >= MEM_TIMERS;
     // The runs' bits stage A reads by a_k_q: in the memory form the read word
     // on every line (at() of equal bits is the bit), so that the stage's RTL
     // is the small builds' as it was; the memory form is all in g_hr, so that
@@ -495,11 +539,11 @@ module bsd_drain #(
         // Stage B's data are loaded only with an item of their kind (order_data_o
         // and rflx_idx_o are read only with their valid flags).
         if (a_t_q) begin
-            b_ord_q   <= at(f_q) && at(run_host_w);
-            b_rdone_q <= at(f_q) && at(run_rflx_w);
-            b_free_q  <= at(f_q) && at(run_rflx_w) && !at(run_host_w);
-            b_res_q   <= elapsed(t_q, ref_rd_q);
-            if (at(r_q)) b_res_q <= 16'd0;  // with a f bit: a timeout
+            b_ord_q   <= at(ent_f) && at(run_host_w);
+            b_rdone_q <= at(ent_f) && at(run_rflx_w);
+            b_free_q  <= at(ent_f) && at(run_rflx_w) && !at(run_host_w);
+            b_res_q   <= elapsed(ent_t, ref_rd_q);
+            if (at(ent_r)) b_res_q <= 16'd0;  // with a f bit: a timeout
             b_k_q     <= a_k_q;
             b_id_q    <= a_id;
         end else begin
@@ -526,8 +570,9 @@ module bsd_drain #(
             {rem_q, any_t_q, dio_q, rep_q, hb_q, empty_q, a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q} <= step_v;
             ref_rd_q <= ref_mem[step_v[5:0]];
         end
-        if (next) begin
-            // The entry: loaded as the last one's last item goes, then one item a clock.
+        if (load) begin
+            // The entry: loaded the clock after the last one's last item (two
+            // clocks after a held one), then one item a clock.
             rem_q     <= ev_t ? ev_rf : {NT{1'b0}};
             any_t_q   <= ev_t;
             rep_q     <= ev_valid_i && ev_data_i[25];
@@ -544,8 +589,8 @@ module bsd_drain #(
                 dio_val_q <= ev_data_i[16];
                 t_q       <= ev_data_i[15:0];
             end
-            {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
         end
+        if (next) {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
         rflx_valid_q  <= b_rdone_q || b_dio_q;
         if (b_rdone_q || b_dio_q) begin
             rflx_id_q     <= b_id_q;

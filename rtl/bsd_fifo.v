@@ -8,7 +8,8 @@
 // (a consumer's long pick logic) reaches only the two output valid flags.
 // With SKID = 0 there is no skid, whose WIDTH flops and output mux a wide
 // word would pay for, and m_axis_tready reaches the read enable: for a
-// consumer whose tready is a flop (bsd_drain) or a gate on flops and a
+// consumer whose tready is a flop (bsd_drain below 17 timers; from 17 a
+// gate on a flop and the head's timer bit) or a gate on flops and a
 // registered ready (bsd_pkt_tx behind the host link's register slice).
 // s_axis_tready and m_axis_tvalid come from flops either way.
 //
