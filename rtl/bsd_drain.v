@@ -31,7 +31,9 @@
 // MEM_TIMERS (17) on a word a timer in a one-port memory here, written from
 // the start ports and read at the pick (see "the runs' HOST and RFLX bits"
 // below, with why a write can wait and still lands first); hold_o then holds
-// the parser while a start's write waits.
+// the parser while a start's write waits. From MEM_TIMERS on, stage A also
+// reads a timer item's r and f bits and T from the queue's head, which is
+// taken only after the entry's last item (see "the entry's r, f and T").
 module bsd_drain #(
     parameter integer        NUM_PINS      = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK    = 5'b11110,
