@@ -102,6 +102,12 @@ async def load_bits(tb: DrainTB, host: int, rflx: int) -> None:
     assert not out["hold_o"]
 
 
+def item_of(d: int) -> tuple:
+    """An output-queue item as the model writes it: (TIMER, timer, ID, result), or (kind,)."""
+    kind = d >> 28
+    return (TIMER, d >> 22 & 63, d >> 16 & 63, d & 0xFFFF) if kind == TIMER else (kind,)
+
+
 def model_entry(tb: DrainTB, e: dict, ref: list, host: int, rflx: int, items: list, strobes: list) -> list[int]:
     """One entry's output-queue items and RFLX strobes, appended in order, with the runs'
     HOST and RFLX bits `host` and `rflx` (`ref`: each timer's reference, updated); returns
@@ -191,9 +197,7 @@ async def run(tb: DrainTB, n_entries: int, p_gap: float) -> None:
             i += 1
             offered = False
         if out["order_valid_o"]:
-            d = out["order_data_o"]
-            kind = d >> 28
-            got_items.append((TIMER, d >> 22 & 63, d >> 16 & 63, d & 0xFFFF) if kind == TIMER else (kind,))
+            got_items.append(item_of(out["order_data_o"]))
         if out["rflx_valid_o"]:
             got_strobes.append((out["rflx_id_o"], out["rflx_data_o"]))
         if out["rflx_done_o"]:
@@ -347,12 +351,11 @@ async def run_starts(tb: DrainTB, n_clocks: int, p_gap: float) -> None:
             flags.pop(0)
             offered = False
         if out["order_valid_o"]:
-            d = out["order_data_o"]
-            kind = d >> 28
-            got_items.append((TIMER, d >> 22 & 63, d >> 16 & 63, d & 0xFFFF) if kind == TIMER else (kind,))
-            if kind == TIMER:
-                assert state[d >> 22 & 63] == "owed"
-                state[d >> 22 & 63] = "idle"        # delivered: may start again
+            item = item_of(out["order_data_o"])
+            got_items.append(item)
+            if item[0] == TIMER:
+                assert state[item[1]] == "owed"
+                state[item[1]] = "idle"             # delivered: may start again
         if out["rflx_valid_o"]:
             got_strobes.append((out["rflx_id_o"], out["rflx_data_o"]))
         if out["rflx_done_o"]:
