@@ -9,7 +9,9 @@
 // every clock, and on a write every other pin keeps its value. oe_o is IODIR (bit 0) inverted
 // and watch_o is ENA (bit 1) AND IODIR on every clock. cfg_o is field-major (bit k of pin p
 // at k*NUM_PINS + p); the reference keeps pin-major words (pin p's bits at 5*p) and
-// f_out_cfg below regroups cfg_o to match.
+// f_out_cfg below regroups cfg_o to match. With the memory, a read shows the pin's bits 4, 3
+// and 1 on every line of cfg_o and its bits 4:1 on rd_cfg_o from the clock after (0 after
+// reset until then); rd_cfg_o is 0 without the memory.
     reg                  f_past_valid = 1'b0;
     reg                  f_rst_q, f_cfg_we_q, f_out_we_q;
     reg [NUM_PINS-1:0]   f_sel_q;
@@ -17,13 +19,13 @@
     reg [NUM_PINS-1:0]   f_out, f_out_o_q;
     integer              f_c, f_i, f_k, f_m;
     reg [5*NUM_PINS-1:0] f_out_cfg;   // cfg_o, pin-major
-    reg [2:0]            f_rd;        // with the memory: the last read pin's bits 4, 3, 1
+    reg [3:0]            f_rd;        // with the memory: the last read pin's bits 4:1
     reg [5*NUM_PINS-1:0] f_shown;     // what cfg_o shows, pin-major
     always @(*)
         for (f_m = 0; f_m < NUM_PINS; f_m = f_m + 1) begin
             for (f_k = 0; f_k < 5; f_k = f_k + 1)
                 f_out_cfg[5*f_m + f_k] = cfg_o[f_k*NUM_PINS + f_m];
-            f_shown[5*f_m +: 5] = MEM ? {f_rd[2:1], f_cfg[5*f_m + 2], f_rd[0], f_cfg[5*f_m]}
+            f_shown[5*f_m +: 5] = MEM ? {f_rd[3:2], f_cfg[5*f_m + 2], f_rd[0], f_cfg[5*f_m]}
                                       : f_cfg[5*f_m +: 5];
         end
 
@@ -36,9 +38,8 @@
         f_cfg_o_q    <= f_out_cfg;
         f_out_o_q    <= out_o;
         if (rd_i && !rst)
-            f_rd <= addr_i < NUM_PINS ? {f_cfg[5*addr_i + 4], f_cfg[5*addr_i + 3], f_cfg[5*addr_i + 1]}
-                                      : 3'd0;
-        if (rst) f_rd <= 3'd0;
+            f_rd <= addr_i < NUM_PINS ? f_cfg[5*addr_i + 1 +: 4] : 4'd0;
+        if (rst) f_rd <= 4'd0;
         for (f_c = 0; f_c < NUM_PINS; f_c = f_c + 1) begin
             if (cfg_we_i && sel_i[f_c] && !FIXED_MASK[f_c]) f_cfg[5*f_c +: 5] <= cfg_wdata_i;
             if (out_we_i && sel_i[f_c]) f_out[f_c] <= out_wdata_i;
@@ -61,6 +62,7 @@
         end else begin
             assert(!busy_o);
         end
+        if (f_past_valid) assert(rd_cfg_o == (MEM ? f_rd : 4'd0));
         for (f_i = 0; f_i < NUM_PINS; f_i = f_i + 1) begin
             if (FIXED_MASK[f_i] && !MEM) assert(f_out_cfg[5*f_i +: 5] == FIXED_CFG[8*f_i +: 5]);
             if (f_past_valid) begin
@@ -84,7 +86,7 @@
         end
     end
 
-    // For induction, with the memory: a pin's word is its bits 4:3 and 1 once the sweep
+    // For induction, with the memory: a pin's word is its bits 4:1 once the sweep
     // after reset has passed it (always outside the sweep), and the sweep stops at the
     // last pin.
     generate
@@ -95,7 +97,7 @@
                     if (g_mem.clr_q) assert(g_mem.clr_pin_q < NUM_PINS);
                     for (f_w = 0; f_w < NUM_PINS; f_w = f_w + 1)
                         if (!g_mem.clr_q || f_w < g_mem.clr_pin_q)
-                            assert(g_mem.mem[f_w] == {f_cfg[5*f_w + 4], f_cfg[5*f_w + 3], f_cfg[5*f_w + 1]});
+                            assert(g_mem.mem[f_w] == f_cfg[5*f_w + 1 +: 4]);
                 end
         end
     endgenerate

@@ -8,8 +8,8 @@
 // pkt_tail_i) unchanged on the clock after pkt_valid_i, as the parser's props prove (a slot past
 // N may take the next byte there, so stage 2 must not need it).
 // cfg_i, level_i and timer_busy_i are free; they count as they are on pkt_valid_i's clock,
-// but for a DIG_CFG read's bits 4:1, which stage 2 looks up in cfg_i as it is then (from 17
-// pins on, bsd_cfg_regs shows there the pin it read on stage 1's clock).
+// but for a DIG_CFG read's bits 4:1, which stage 2 looks up in cfg_i as it is then, or with
+// CFG_MEM takes from cfg_rd_i (free too: bsd_cfg_regs's read of the pin on stage 1's clock).
 // cfg_i is field-major (bsd_cfg_regs): DIGCFG bit k of pin p is cfg_i[k*NUM_PINS + p].
 // Asserted against a reference decoder written from PROTOCOL.md §2/§3 (precedence
 // cmdInvalid, cmdTooShort, the command's own error, then the action and cmdTooLong): the
@@ -73,9 +73,11 @@
     wire       f_is_in  = f_pin_ok && f_cfg[f_d1[5:0]];     // the pin byte's pin is an input
     wire       f_dev_in = f_dev_ok && f_cfg[f_dp];          // the DEVCODE's pin is an input
     // The pin byte's pin's DIGCFG bits 4:0 (meaningful with f_pin_ok).
-    // (bits 4:1 as cfg_i has them on stage 2's clock, IODIR as on stage 1's: see the header)
-    wire [4:0] f_pin_cfg = {cfg_i[4*NUM_PINS + f_d1[5:0]], cfg_i[3*NUM_PINS + f_d1[5:0]],
-                            cfg_i[2*NUM_PINS + f_d1[5:0]], cfg_i[NUM_PINS + f_d1[5:0]],
+    // (bits 4:1 as cfg_i, or with CFG_MEM cfg_rd_i, has them on stage 2's clock, IODIR as on
+    // stage 1's: see the header)
+    wire [4:0] f_pin_cfg = {CFG_MEM ? cfg_rd_i :
+                                      {cfg_i[4*NUM_PINS + f_d1[5:0]], cfg_i[3*NUM_PINS + f_d1[5:0]],
+                                       cfg_i[2*NUM_PINS + f_d1[5:0]], cfg_i[NUM_PINS + f_d1[5:0]]},
                             f_cfg[f_d1[5:0]]};
     wire       f_valid_code = f_d0 == CMD_HB || f_d0 == CMD_DIG_CFG || f_d0 == CMD_DIG_IO ||
                               f_d0 == CMD_DIG_RST || f_d0 == CMD_PTIME_RD || f_d0 == CMD_DEBUG ||

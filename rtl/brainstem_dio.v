@@ -274,6 +274,7 @@ module brainstem_dio #(
 
     // ------------------------------------------------------------ execution
     wire [5*NUM_PINS-1:0] cfg;
+    wire [3:0]            cfg_rd;   // the memory's read of d1's pin (from MEM_FROM pins on)
     wire [NUM_PINS-1:0]   out_latch;
     wire [NUM_PINS-1:0]   pin_watch;
     wire [NUM_PINS-1:0]   timer_busy;
@@ -301,7 +302,8 @@ module brainstem_dio #(
         .NUM_PINS    (NUM_PINS),
         .TIMER_MASK  (TIMER_MASK),
         .FIXED_MASK  (FIXED_MASK),
-        .PIN_ID_BASE (PIN_ID_BASE)
+        .PIN_ID_BASE (PIN_ID_BASE),
+        .CFG_MEM     (NUM_PINS >= MEM_FROM)
     ) u_exec (
         .clk             (clk),
         .rst             (core_rst),
@@ -314,6 +316,7 @@ module brainstem_dio #(
         .pkt_d2_i        (pkt_d2),
         .pkt_tail_i      (pkt_tail),
         .cfg_i           (cfg),
+        .cfg_rd_i        (cfg_rd),
         .level_i         (level),
         .timer_busy_i    (timer_busy),
         .cfg_we_o        (cfg_we),
@@ -398,6 +401,7 @@ module brainstem_dio #(
         .out_o       (out_latch),
         .oe_o        (pin_oe),
         .watch_o     (pin_watch),
+        .rd_cfg_o    (cfg_rd),
         .busy_o      (cfg_busy)
     );
 

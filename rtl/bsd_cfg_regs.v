@@ -19,7 +19,9 @@
 // shows its bits on every line of those three fields from the clock after
 // (stage 2) until the next read (a write does not show before it; after a
 // reset they are 0 until then, fixed pins' too); there is no read on a
-// write's clock (stage 2 writes; packets are 3 clocks apart). A memory cannot
+// write's clock (stage 2 writes; packets are 3 clocks apart). The word keeps
+// TRG as well, which the pin's transition latch reads from a flop, so that
+// the read shows all of bits 4:1 on rd_cfg_o for a DIG_CFG read's reply. A memory cannot
 // be cleared in one clock, so after reset the block writes every pin's word
 // with its reset (or FIXED) bits, a pin a clock, and says so on busy_o; the
 // core's parser holds packets meanwhile (NUM_PINS clocks, 64 at most: a
@@ -50,6 +52,11 @@ module bsd_cfg_regs #(
     output wire [NUM_PINS-1:0]   out_o,        // every pin's output latch
     output wire [NUM_PINS-1:0]   oe_o,         // every pin's output enable: !IODIR
     output wire [NUM_PINS-1:0]   watch_o,      // every pin's ENA && IODIR: its latch watches it
+    // With the memory, the read pin's DIGCFG bits 4:1 (as the fields of cfg_o that
+    // the memory keeps show them, and its TRG, which a flop a pin keeps as well
+    // for its transition latch: bsd_exec's DIG_CFG read then needs no lookup
+    // over the pins); 0 without it.
+    output wire [3:0]            rd_cfg_o,
     output wire                  busy_o        // the memory is being cleared: no rd_i or cfg_we_i
 );
     // Input, latch disarmed.
@@ -70,21 +77,20 @@ module bsd_cfg_regs #(
     /* verilator coverage_on */
     localparam [5*NUM_PINS-1:0] FIXED_F = fixed_fields(0);
 
-    // With the memory: every pin's word after reset, bits {4, 3, 1}, FIXED_CFG's
+    // With the memory: every pin's word after reset, DIGCFG bits 4:1, FIXED_CFG's
     // for a fixed pin and CFG_RESET's for a free one. Called only for a localparam.
     /* verilator coverage_off */
-    function [191:0] reset_words(input integer unused);
+    function [255:0] reset_words(input integer unused);
         integer r;
         begin
-            reset_words = 192'd0;
+            reset_words = 256'd0;
             // (64 words: a NUM_PINS above 64 is the top's parameter check's to reject)
             for (r = 0; r < NUM_PINS && r < 64; r = r + 1)
-                reset_words[3*r +: 3] = FIXED_MASK[r] ? {FIXED_CFG[8*r + 4], FIXED_CFG[8*r + 3], FIXED_CFG[8*r + 1]}
-                                                      : {CFG_RESET[4], CFG_RESET[3], CFG_RESET[1]};
+                reset_words[4*r +: 4] = FIXED_MASK[r] ? FIXED_CFG[8*r + 1 +: 4] : CFG_RESET[4:1];
         end
     endfunction
     /* verilator coverage_on */
-    localparam [191:0] RESET_WORDS = reset_words(0);
+    localparam [255:0] RESET_WORDS = reset_words(0);
 
     // Field-major, DIGCFG bits 4:1 (bit 0, IODIR, is oe_q's inverse); a
     // fixed pin's bits are never read.
@@ -94,7 +100,9 @@ module bsd_cfg_regs #(
     // gate per pin; the readers of IODIR invert it inside their own gates.
     reg [NUM_PINS-1:0]   oe_q;
     reg [NUM_PINS-1:0]   watch_q;
-    wire [2:0]           rd_bits;   // with the memory: the read pin's TMODE, TSTATE, ENA
+    wire [3:0]           rd_bits;   // with the memory: the read pin's DIGCFG bits 4:1
+    // The flops the outputs read: TRG, oe and watch (g_mem has its own).
+    wire [NUM_PINS-1:0]  trg_w, oe_w, watch_w;
     integer k, p;
 
     always @(posedge clk) begin
@@ -126,16 +134,16 @@ module bsd_cfg_regs #(
         end
     end
 
-    assign cfg_o[0 +: NUM_PINS] = (~oe_q & ~FIXED_MASK) | (FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
+    assign cfg_o[0 +: NUM_PINS] = (~oe_w & ~FIXED_MASK) | (FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
     genvar g;
     generate
         for (g = 1; g < 5; g = g + 1) begin : g_field
             if (!MEM || g == 2) begin : g_flops
-                assign cfg_o[g*NUM_PINS +: NUM_PINS] = (cfg_q[g*NUM_PINS +: NUM_PINS] & ~FIXED_MASK) |
+                assign cfg_o[g*NUM_PINS +: NUM_PINS] = ((g == 2 ? trg_w : cfg_q[g*NUM_PINS +: NUM_PINS]) & ~FIXED_MASK) |
                                                        (FIXED_F[g*NUM_PINS +: NUM_PINS] & FIXED_MASK);
             end else begin : g_read
                 // The read pin's bit on every line (its flops are never read).
-                assign cfg_o[g*NUM_PINS +: NUM_PINS] = {NUM_PINS{rd_bits[g == 1 ? 0 : g - 2]}};
+                assign cfg_o[g*NUM_PINS +: NUM_PINS] = {NUM_PINS{rd_bits[g - 1]}};
                 wire unused_field = ^cfg_q[g*NUM_PINS +: NUM_PINS];
             end
         end
@@ -148,9 +156,9 @@ module bsd_cfg_regs #(
 `ifdef BSD_SPRAM
             (* ram_style = "huge" *)
 `endif
-            reg [2:0]          mem [0:63];
+            reg [3:0]          mem [0:63];
             /* verilator coverage_on */
-            reg [2:0]          mem_rd_q;
+            reg [3:0]          mem_rd_q;
             reg                rd_ok_q;   // the last read since reset was of a pin
             reg                clr_q;     // the sweep after reset
             reg [5:0]          clr_pin_q; // the pin it writes
@@ -175,9 +183,9 @@ module bsd_cfg_regs #(
             wire [5:0] mem_addr = clr_q ? clr_pin_q : addr_i;
             always @(posedge clk) begin
                 if (clr_q) begin
-                    mem[mem_addr] <= RESET_WORDS[3*clr_pin_q +: 3];
+                    mem[mem_addr] <= RESET_WORDS[4*clr_pin_q +: 4];
                 end else if (cfg_we_i) begin
-                    if (!(|(sel_i & FIXED_MASK))) mem[mem_addr] <= {cfg_wdata_i[4:3], cfg_wdata_i[1]};
+                    if (!(|(sel_i & FIXED_MASK))) mem[mem_addr] <= cfg_wdata_i[4:1];
                 end else if (rd_i) begin
                     mem_rd_q <= mem[mem_addr];
                 end
@@ -197,20 +205,50 @@ module bsd_cfg_regs #(
             /* verilator coverage_on */
 `endif
 `endif
+            // A pin's three flops that anything reads (TRG, oe, watch), with
+            // the memory: written as the output latches are (below), the
+            // strobe the enable all pins share and the select in each bit's
+            // data, so that each takes a LUT of its own that nextpnr packs
+            // with it. The shared block's per-pin enable took a LUT a pin and
+            // left each of the three a logic cell alone (uart64t: 47 cells
+            // fewer). Below MEM_PINS a pin's six flops share that LUT and this
+            // form is the larger (core5 693 -> 715 LUT4), so the small builds
+            // keep the shared block's flops, which nothing reads from here on.
+            reg [NUM_PINS-1:0] trg_q, oe_m_q, watch_m_q;
+            always @(posedge clk) begin
+                if (cfg_we_i) begin
+                    trg_q     <= (trg_q & ~sel_i) | (sel_i & {NUM_PINS{cfg_wdata_i[2]}});
+                    oe_m_q    <= (oe_m_q & ~sel_i) | (sel_i & {NUM_PINS{!cfg_wdata_i[0]}});
+                    watch_m_q <= (watch_m_q & ~sel_i) | (sel_i & {NUM_PINS{cfg_wdata_i[1] && cfg_wdata_i[0]}});
+                end
+                if (rst) begin
+                    trg_q     <= {NUM_PINS{CFG_RESET[2]}};
+                    oe_m_q    <= {NUM_PINS{!CFG_RESET[0]}};
+                    watch_m_q <= {NUM_PINS{CFG_RESET[1] && CFG_RESET[0]}};
+                end
+            end
+            assign trg_w   = trg_q;
+            assign oe_w    = oe_m_q;
+            assign watch_w = watch_m_q;
+            wire unused_flops = ^{cfg_q[2*NUM_PINS +: NUM_PINS], oe_q, watch_q};
             // Kept as one net: synthesis would otherwise fold the AND into
             // each timer's start logic (TMODE and TSTATE go to every timer).
-            (* keep *) wire [2:0] rd_w = mem_rd_q & {3{rd_ok_q}};
+            (* keep *) wire [3:0] rd_w = mem_rd_q & {4{rd_ok_q}};
             assign rd_bits = rd_w;
             assign busy_o  = clr_q;
         end else begin : g_no_mem
-            assign rd_bits = 3'd0;
+            assign rd_bits = 4'd0;
             assign busy_o  = 1'b0;
-            wire unused_rd = ^{addr_i, rd_i, rd_bits};
+            assign trg_w   = cfg_q[2*NUM_PINS +: NUM_PINS];
+            assign oe_w    = oe_q;
+            assign watch_w = watch_q;
+            wire unused_rd = ^{addr_i, rd_i};
         end
     endgenerate
     assign out_o = out_q;
-    assign oe_o  = (oe_q & ~FIXED_MASK) | (~FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
-    assign watch_o = (watch_q & ~FIXED_MASK) |
+    assign rd_cfg_o = rd_bits;
+    assign oe_o  = (oe_w & ~FIXED_MASK) | (~FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
+    assign watch_o = (watch_w & ~FIXED_MASK) |
                      (FIXED_F[1*NUM_PINS +: NUM_PINS] & FIXED_F[0 +: NUM_PINS] & FIXED_MASK);
 
 `ifdef FORMAL

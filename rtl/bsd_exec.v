@@ -24,7 +24,10 @@ module bsd_exec #(
     parameter integer        NUM_PINS    = 5,
     parameter [NUM_PINS-1:0] TIMER_MASK  = 5'b11110,
     parameter [NUM_PINS-1:0] FIXED_MASK  = 0,
-    parameter integer        PIN_ID_BASE = 5
+    parameter integer        PIN_ID_BASE = 5,
+    // 1: bsd_cfg_regs keeps DIGCFG bits 4:1 in its memory (from its MEM_PINS
+    // pins on), and a DIG_CFG read takes them from cfg_rd_i.
+    parameter [0:0]          CFG_MEM     = 1'b0
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -38,7 +41,13 @@ module bsd_exec #(
     input  wire [7:0]            pkt_d2_i,
     input  wire [39:0]           pkt_tail_i,    // d3..d7 (cmdDEBUG)
     // pin state
+    // (with CFG_MEM, only IODIR, bits 0 of each pin, is read: cfg_rd_i has the rest)
+    /* verilator lint_off UNUSEDSIGNAL */
     input  wire [5*NUM_PINS-1:0] cfg_i,
+    // with CFG_MEM: d1's pin's DIGCFG bits 4:1, from the clock after the packet's
+    // (bsd_cfg_regs's memory read on that clock); unused without it
+    input  wire [3:0]            cfg_rd_i,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire [NUM_PINS-1:0]   level_i,
     input  wire [NUM_PINS-1:0]   timer_busy_i,
     // configuration register file
@@ -395,15 +404,19 @@ module bsd_exec #(
     // one with the select decoded in the same clock, whose decoder synthesis
     // merges into each field's mux (64 pins: ~40 LUT4 a field, not ~90).
     // cfg_i's bits 4:1 of the pin are as on stage 1's clock (only this
-    // packet's stage 2 writes them, from the clock after) or, from 17 pins
-    // on, bsd_cfg_regs's read of d1's pin on stage 1's clock, shown on every
-    // line from this clock on. (A ?: with the AND-ORs written out,
-    // not an AND or a function, so that a simulator works them out only for
-    // a read.)
-    assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00, |(cfg_i[4*NUM_PINS +: NUM_PINS] & pkt_sel_i),
-                                              |(cfg_i[3*NUM_PINS +: NUM_PINS] & pkt_sel_i),
-                                              |(cfg_i[2*NUM_PINS +: NUM_PINS] & pkt_sel_i),
-                                              |(cfg_i[1*NUM_PINS +: NUM_PINS] & pkt_sel_i), pin_in_q} : 8'd0) |
+    // packet's stage 2 writes them, from the clock after). With CFG_MEM they
+    // are bsd_cfg_regs's read of d1's pin on stage 1's clock, cfg_rd_i from
+    // this clock on, and there is no lookup (uart64t: about 85 logic cells
+    // fewer; the memory shows bits 4, 3 and 1 on every line of cfg_i too, but
+    // synthesis does not see that an AND-OR of one bit is that bit). (A ?:
+    // with the AND-ORs written out, not an AND or a function, so that a
+    // simulator works them out only for a read.)
+    assign reply_data_o[15:8]  = (cfg_rd_q ? {pin_fixed_q, 2'b00,
+                                              CFG_MEM ? cfg_rd_i : {|(cfg_i[4*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                                                    |(cfg_i[3*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                                                    |(cfg_i[2*NUM_PINS +: NUM_PINS] & pkt_sel_i),
+                                                                    |(cfg_i[1*NUM_PINS +: NUM_PINS] & pkt_sel_i)},
+                                              pin_in_q} : 8'd0) |
                                  ({8{dbg_q}} & s2_d2_q) | {7'd0, io_r_q && pin_level_q};
     assign reply_data_o[7:0]   = pkt_tail_i[39:32];   // only cmdDEBUG's echo sends it
     // A DIG_IO read of an input pin with the RFLX bit (bsd_reply_slot).

@@ -10,7 +10,9 @@ are a memory read with each packet: those fields of cfg_o then show the read pin
 every line, from the clock after a read (rd_i, never on a write's clock, as bsd_exec) until the
 next one, and 0 after reset; the block writes every pin's word after reset, a pin a clock, and
 busy_o is set for those NUM_PINS clocks, in which no read or write may come (the core's parser
-holds packets). CfgModel is compared with every output after every clock.
+holds packets). The read also shows the pin's bits 4:1 (TRG too, which a flop a pin keeps as
+well) on rd_cfg_o, which is 0 without the memory. CfgModel is compared with every output after
+every clock.
 """
 
 from __future__ import annotations
@@ -72,11 +74,11 @@ class CfgModel:
         self.cfg = [((self.fixed_cfg >> (8 * p)) & DIGCFG_STORED) if self.fixed(p) else DIGCFG_RESET
                     for p in range(self.n)]
         self.out = [0] * self.n
-        self.rd = 0   # with the memory: the last read pin's bits 4, 3 and 1
+        self.rd = 0   # with the memory: the last read pin's bits 4:1 (0 before the first read)
         self.busy = self.n if self.mem else 0   # clocks of the memory's sweep left
 
     def read(self, addr: int) -> None:
-        self.rd = self.cfg[addr] & READ_BITS if addr < self.n else 0
+        self.rd = self.cfg[addr] & 0x1E if addr < self.n else 0
 
     def step(self, v: dict) -> None:
         self.busy = max(self.busy - 1, 0)
@@ -91,8 +93,8 @@ class CfgModel:
         # oe_o: a pin drives its pad while DIGCFG IODIR (bit 0) is 0; watch_o: its
         # transition latch watches it while ENA and IODIR are both 1.
         watch = DIGCFG_ENA | DIGCFG_IODIR
-        shown = [c & ~READ_BITS | self.rd for c in self.cfg] if self.mem else self.cfg
-        return dict(cfg_o=pack_cfg(shown), busy_o=int(self.busy > 0),
+        shown = [c & ~READ_BITS | self.rd & READ_BITS for c in self.cfg] if self.mem else self.cfg
+        return dict(cfg_o=pack_cfg(shown), busy_o=int(self.busy > 0), rd_cfg_o=self.rd >> 1 if self.mem else 0,
                     out_o=sum(o << p for p, o in enumerate(self.out)),
                     oe_o=sum((~c & 1) << p for p, c in enumerate(self.cfg)),
                     watch_o=sum(int(c & watch == watch) << p for p, c in enumerate(self.cfg)))
@@ -113,7 +115,7 @@ def unpack_cfg(word: int, n: int, p: int) -> int:
 class CfgTB(ClockedTB):
     INPUTS = dict(cfg_we_i=0, out_we_i=0, sel_i=0, addr_i=0, rd_i=0, cfg_wdata_i=0, out_wdata_i=0)
     PULSES = ("cfg_we_i", "out_we_i", "rd_i")
-    OUTPUTS = ("cfg_o", "out_o", "oe_o", "watch_o", "busy_o")
+    OUTPUTS = ("cfg_o", "out_o", "oe_o", "watch_o", "busy_o", "rd_cfg_o")
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "cfg_regs")

@@ -49,6 +49,10 @@ BUILDS = {
     "pins3-all": {"NUM_PINS": 3, "TIMER_MASK": "3'b111", "FIXED_MASK": "3'b000", "PIN_ID_BASE": 5},
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
+    # the core's from 17 pins on: a DIG_CFG read takes bits 4:1 from bsd_cfg_regs's memory
+    # read (cfg_rd_i); the testbench then puts the inverse of every pin's bits 4:1 on cfg_i
+    "pins20-mem": {"NUM_PINS": 20, "TIMER_MASK": "20'hfffff", "FIXED_MASK": "20'h00010",
+                   "PIN_ID_BASE": 0, "CFG_MEM": 1},
 }
 
 ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "timer_go_o", "hb_answer_o",
@@ -167,7 +171,7 @@ class ExecModel:
 
 class ExecTB(ClockedTB):
     INPUTS = dict(pkt_valid_i=0, pkt_kind_i=KIND_CMD, pkt_n_i=0, pkt_cmd_i=cmd_flags(0), pkt_d1_i=0,
-                  pkt_sel_i=1, pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, level_i=0, timer_busy_i=0)
+                  pkt_sel_i=1, pkt_d2_i=0, pkt_tail_i=0, cfg_i=0, cfg_rd_i=0, level_i=0, timer_busy_i=0)
     PULSES = ("pkt_valid_i",)
     OUTPUTS = ALWAYS + ("pin_sel_o", "cfg_wdata_o", "out_wdata_o", "timer_idx_o", "timer_host_o",
                         "timer_rflx_o", "hb_answer_down_o", "reply_n_o", "reply_data_o",
@@ -181,12 +185,21 @@ class ExecTB(ClockedTB):
         sel = pin_sel(inputs.get("pkt_d1_i", self.cur["pkt_d1_i"]), self.n)
         vals = super().drive(rst, pkt_cmd_i=cmd_flags(d0), pkt_sel_i=sel, **inputs)
         vals["pkt_d0_i"] = d0
+        if self.cfg_mem:
+            # cfg_rd_i: d1's pin's bits 4:1, as the memory shows them the clock after the
+            # packet's (held until its outputs are sampled); cfg_i's bits 4:1 inverted, so
+            # that a reply read from them fails (the values returned keep the model's).
+            d1, cfg = vals["pkt_d1_i"], vals["cfg_i"]
+            rd = sum(((cfg >> (k * self.n + d1)) & 1) << (k - 1) for k in range(1, 5)) if d1 < self.n else 0
+            self.dut.cfg_rd_i.value = rd
+            self.dut.cfg_i.value = cfg ^ (((1 << 4 * self.n) - 1) << self.n)
         return vals
 
     def __init__(self, dut) -> None:
         super().__init__(dut, "exec")
         self.model = ExecModel(hdl_params())
         self.n = self.model.n
+        self.cfg_mem = bool(int(hdl_params().get("CFG_MEM", 0)))
         self.clocks = 0
         self.replies = 0
 
