@@ -37,7 +37,9 @@ module bsd_exec #(
     input  wire [3:0]            pkt_n_i,
     input  wire [7:0]            pkt_cmd_i,     // d0 decoded (bsd_parser's pkt_cmd_o)
     input  wire [7:0]            pkt_d1_i,
+    /* verilator lint_off UNUSEDSIGNAL */  // (with CFG_MEM, d1_sel below)
     input  wire [NUM_PINS-1:0]   pkt_sel_i,     // d1's bits 5:0 one-hot (bsd_parser's pkt_sel_o)
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire [7:0]            pkt_d2_i,
     input  wire [39:0]           pkt_tail_i,    // d3..d7 (cmdDEBUG)
     // pin state
@@ -54,7 +56,7 @@ module bsd_exec #(
     output wire                  cfg_we_o,
     output wire                  out_we_o,
     output wire [NUM_PINS-1:0]   pin_sel_o,     // the pin both writes address, one-hot or zero
-                                                // (pkt_sel_i; read only with the write strobes)
+                                                // (d1's pin, one-hot; read only with the write strobes)
     output wire [4:0]            cfg_wdata_o,
     output wire                  out_wdata_o,
     output wire [NUM_PINS-1:0]   rearm_o,
@@ -315,6 +317,24 @@ module bsd_exec #(
     reg                pin_level_q, pin_fixed_q;
     reg                cfg_we_q, out_we_q, hb_answer_q;
     reg [NUM_PINS-1:0] rearm_q;
+
+    // The packet's pin as a one-hot: the parser's flops (pkt_sel_i), or with
+    // CFG_MEM decoded here from d1 (which the parser holds on the clock after
+    // the packet's as well, for pin_sel_o). With the memory no lookup of
+    // stage 2 reads the one-hot, and the decode folds into its readers' LUTs
+    // (the strobes' flops, bsd_cfg_regs's write AND-ORs), so the parser's
+    // flop a pin, each an iCE40 logic cell alone, goes (uart64t: 35 cells
+    // fewer); without it, stage 2's DIG_CFG read looks up four fields with it,
+    // cheaper from flops (below).
+    localparam [NUM_PINS-1:0] SEL_ONE = 1;
+    wire [NUM_PINS-1:0] d1_sel;
+    generate
+        if (CFG_MEM) begin : g_d1_sel
+            assign d1_sel = SEL_ONE << pkt_d1_i[5:0];
+        end else begin : g_pkt_sel
+            assign d1_sel = pkt_sel_i;
+        end
+    endgenerate
     reg [NUM_PINS-1:0] start_q;
     reg [5:0]          tidx_q;        // the packet pin's timer number
 
@@ -328,7 +348,7 @@ module bsd_exec #(
         if (pkt_valid_i || rst) begin
             {b0_q, b1_q, rn_q, idx_err_q, cfgerr_q, tl_q, long_q, dev_id_q, pin_in_q, pin_level_q, pin_fixed_q, tidx_q,
              known_q, io_w_q, io_r_q, pt_q, started_q, cfg_rd_q, dbg_q, reset_q, cfg_we_q, out_we_q,
-             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, pkt_sel_i,
+             hb_answer_q, rearm_q, start_q} <= stage1(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, d1_sel,
                                                       cfg_i[IODIR*NUM_PINS +: NUM_PINS], level_i,
                                                       timer_busy_i);
             s2_d1_q     <= {pkt_d1_i[7:6], pkt_d1_i[0]};
@@ -350,9 +370,9 @@ module bsd_exec #(
             rearm_q     <= {NUM_PINS{1'b0}};
             start_q     <= {NUM_PINS{1'b0}};
         end else begin
-            if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, pkt_sel_i))
+            if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, d1_sel))
                 rearm_q <= {NUM_PINS{1'b0}};
-            if (!FEW_TIMERS && !starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, pkt_sel_i,
+            if (!FEW_TIMERS && !starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, d1_sel,
                                        cfg_i[IODIR*NUM_PINS +: NUM_PINS], timer_busy_i))
                 start_q <= {NUM_PINS{1'b0}};
         end
@@ -370,7 +390,7 @@ module bsd_exec #(
     assign timer_go_o    = started_q;
     assign timer_idx_o   = tidx_q;
     assign hb_answer_o   = hb_answer_q;
-    assign pin_sel_o     = pkt_sel_i;
+    assign pin_sel_o     = d1_sel;
     assign cfg_wdata_o   = s2_d2_q[4:0];
     assign out_wdata_o   = s2_d2_q != 8'd0;
     assign timer_host_o  = dev_host;

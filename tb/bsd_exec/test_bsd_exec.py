@@ -50,7 +50,8 @@ BUILDS = {
     "pins64": {"NUM_PINS": 64, "TIMER_MASK": "64'h8000000000000001",
                "FIXED_MASK": "64'h4000000000000000", "PIN_ID_BASE": 0},
     # the core's from 17 pins on: a DIG_CFG read takes bits 4:1 from bsd_cfg_regs's memory
-    # read (cfg_rd_i); the testbench then puts the inverse of every pin's bits 4:1 on cfg_i
+    # read (cfg_rd_i), and the pin's one-hot is decoded from d1; the testbench then puts the
+    # inverse of every pin's bits 4:1 on cfg_i and the next pin's line on pkt_sel_i
     "pins20-mem": {"NUM_PINS": 20, "TIMER_MASK": "20'hfffff", "FIXED_MASK": "20'h00010",
                    "PIN_ID_BASE": 0, "CFG_MEM": 1},
 }
@@ -193,6 +194,8 @@ class ExecTB(ClockedTB):
             rd = sum(((cfg >> (k * self.n + d1)) & 1) << (k - 1) for k in range(1, 5)) if d1 < self.n else 0
             self.dut.cfg_rd_i.value = rd
             self.dut.cfg_i.value = cfg ^ (((1 << 4 * self.n) - 1) << self.n)
+            # the block decodes d1 itself: the parser's one-hot, a pin off, must not matter
+            self.dut.pkt_sel_i.value = (sel << 1 | sel >> (self.n - 1)) & ((1 << self.n) - 1)
         return vals
 
     def __init__(self, dut) -> None:
