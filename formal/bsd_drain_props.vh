@@ -11,7 +11,11 @@
 // the last item goes (an item every clock, and one idle clock between entries), or in the
 // memory form (from MEM_TIMERS) a clock later after an entry with timer events: stage A
 // reads its r, f and T from the queue's head, so it is taken from the queue only on that
-// idle clock. Asserted for both forms: each entry offered is loaded once and taken once,
+// idle clock; there, an entry whose last item is a timer has one idle clock more before
+// "no item left" (the clock after that item finds no timer left). With consecutive timer IDs
+// there (RANK_IDX: the prove_memc task) the value is ranked at stage A, not in the pick: it
+// reaches stage B before the first timer whose ID is above its own and after every other,
+// by a hold of one clock, which counts as its take. Asserted for both forms: each entry offered is loaded once and taken once,
 // after or as it loads, and stage A's r, f and T are its entry's (a copy made here).
     reg                f_past_valid = 1'b0;
     reg                f_rst_q, f_v_q, f_r_q, f_t_q;
@@ -43,7 +47,9 @@
         end
     endfunction
 
-    wire [2:0] f_takes = {2'd0, take_t} + {2'd0, take_dio} + {2'd0, take_rep} + {2'd0, take_hb};
+    // (a hold takes the DIG_IO value, and no step runs: step()'s takes are not taken)
+    wire [2:0] f_takes = hold ? 3'd1 : {2'd0, take_t} + {2'd0, take_dio} + {2'd0, take_rep} + {2'd0, take_hb};
+    wire [5:0] f_a_id  = CONTIG ? ID0 + a_k_q : IDS[6*a_k_q +: 6];  // stage A's timer's ID
 
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -53,11 +59,11 @@
         f_d_q   <= ev_data_i;
         f_t_q   <= ev_timers_i;
         f_taken <= f_taken + {1'b0, f_takes};
-        if (take_t) begin
+        if (take_t && !hold) begin
             f_have_k <= 1'b1;
             f_last_k <= k;
         end
-        if (take_dio) f_dio_done <= 1'b1;
+        if ((take_dio && !hold) || hold) f_dio_done <= 1'b1;
         if (ev_valid_i && ev_ready_o) f_loaded <= 1'b0;
         else if (load && ev_valid_i)  f_loaded <= 1'b1;
         if (load) begin
@@ -84,15 +90,25 @@
         if (f_past_valid && !rst && !f_rst_q) begin
             assert(f_takes <= 3'd1);
             if (more || any_t || dio_q || rep_q || hb_q) assert(f_takes == 3'd1);
-            if (take_t && f_have_k) assert(k > f_last_k);
+            if (!RANK_IDX) assert(!hold);
+            if (take_t && f_have_k && !hold) assert(k > f_last_k);
             if (take_t) assert(k < NT && low == ({{(NT-1){1'b0}}, 1'b1} << k));
-            // the DIG_IO value ranks by ID against the timers (read only with a value)
-            if (dio_q)
-                for (f_j2 = 0; f_j2 < NT; f_j2 = f_j2 + 1)
-                    assert(ranks[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
-            if (take_t && dio_q) assert(!(dio_id_q < k_id));
-            if (take_dio && f_have_k) assert(!(dio_id_q < IDS[6*f_last_k +: 6]));
-            if (take_dio && any_t) assert(dio_id_q < k_id);
+            if (!RANK_IDX) begin
+                // the DIG_IO value ranks by ID against the timers (read only with a value)
+                if (dio_q)
+                    for (f_j2 = 0; f_j2 < NT; f_j2 = f_j2 + 1)
+                        assert(ranks[f_j2] == (IDS[6*f_j2 +: 6] <= dio_id_q));
+                if (take_t && dio_q) assert(!(dio_id_q < k_id));
+            end else begin
+                // at stage A: a timer goes on to stage B ahead of the waiting value only
+                // with an ID not above it; when the value goes, the timer in stage A (a
+                // hold) and every timer left have IDs above it
+                if (a_t_q && !hold && dio_q) assert(!(dio_id_q < f_a_id));
+                if (hold) assert(dio_id_q < f_a_id);
+                if ((hold || take_dio) && any_t) assert(dio_id_q < k_id);
+            end
+            if (take_dio && !hold && f_have_k) assert(!(dio_id_q < IDS[6*f_last_k +: 6]));
+            if (take_dio && !hold && any_t) assert(dio_id_q < k_id);
             if (take_rep) assert(!any_t && !dio_q);
             if (take_hb) assert(!any_t && !dio_q && !rep_q);
             // nothing lost or repeated: the entry's items, one each, then the next entry
@@ -109,14 +125,21 @@
             // stage A's r, f and T are its entry's
             if (a_t_q) assert(ent_r == f_e_q[2*NT+25 -: NT] && ent_f == f_e_q[NT+25 -: NT] &&
                               ent_t == f_e_q[15:0]);
-            if (MEM && (a_t_q || any_t_q)) assert(f_loaded);
-            assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
-            assert(any_t_q == |rem);
+            if (MEM && (a_t_q || any_t)) assert(f_loaded);
+            if (!MEM) begin
+                assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
+                assert(any_t_q == |rem);
+            end else begin
+                assert(any_t == |rem);
+                if (empty_o) assert(!any_t && !dio_q && !rep_q && !hb_q);
+                // nothing left but not yet "no item left": the clock after a last timer item
+                if (!empty_o && !any_t && !dio_q && !rep_q && !hb_q) assert(a_t_q && !more);
+            end
         end
     end
 
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
-        cover(take_dio && any_t);                              // the DIG_IO value between timers
+        cover((take_dio || hold) && any_t);                    // the DIG_IO value between timers
         cover(take_hb && f_items == 4'd5);                     // a full entry's last item
         cover(b_ord_q && !b_rep_q && !b_hb_q && b_res_q == 16'd0 && rflx_valid_q == 1'b0);  // a timeout's item
     end
@@ -137,7 +160,8 @@
             reg  [NT-1:0] f_busy, f_fsent, f_sh_h, f_sh_r, f_via_pend;
             wire [NT-1:0] f_fin_in = ev_data_i[NT+25 -: NT];
             wire [NT-1:0] f_start  = start_i ? {{(NT-1){1'b0}}, 1'b1} << start_idx_i : {NT{1'b0}};
-            wire [NT-1:0] f_done   = a_t_q && at(ent_f) ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
+            // (a finish leaves stage A on a clock without a hold)
+            wire [NT-1:0] f_done   = a_t_q && at(ent_f) && !hold ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
             always @(posedge clk) begin
                 f_busy  <= (f_busy & ~f_done) | f_start;
                 f_fsent <= (f_fsent | (load && ev_valid_i && ev_timers_i ? f_fin_in : {NT{1'b0}})) & ~f_start;
@@ -181,7 +205,7 @@
             always @(*) if (f_past_valid && !f_rst_q && !rst) begin
                 cover(a_t_q && at(ent_f) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
                 cover(start_i && !next);                                             // a start during a pick
-                cover(next && held && f_items == 4'd2 && a_t_q && b_ord_q);                  // a held entry's last item in stage A
+                cover(held && !any_t && !empty_o && f_items == 4'd2 && a_t_q && b_ord_q);    // a held entry's last item in stage A
             end
         end
     endgenerate

@@ -142,9 +142,14 @@ module bsd_drain #(
     reg [15:0]         t_q;
 
     // "A timer is left" as a flop (any_t_q), so the reply's and heartbeat's
-    // picks and enables do not wait for an OR over the timers.
+    // picks and enables do not wait for an OR over the timers. From
+    // MEM_TIMERS on it is that OR, and step()'s "two timers or more" is "a
+    // timer now" (the entry's last item, when a timer, is followed by a clock
+    // that finds none left): the exact test, a timer beside the pick, took 63
+    // LUT4 at 64 timers (bsd_drain alone; uart64t 54 logic cells). An entry
+    // whose last item is a timer then takes a clock more.
     reg                 any_t_q;
-    wire                any_t  = any_t_q;
+    wire                any_t  = NT >= MEM_TIMERS ? |rem_q : any_t_q;
     // Up to PICK_GROUP timers the pick is functions of the entry's flops
     // called in the clocked block on a clock with an item (not next), not
     // wires: a simulator then works it out only there, not on every clock
@@ -255,8 +260,14 @@ module bsd_drain #(
         end
     endfunction
     /* verilator coverage_on */
-    localparam [NT-1:0] MAY_RANK  = id_le(DIO_ID_HI);
-    localparam [NT-1:0] MUST_RANK = id_le(DIO_ID_LO);
+    // From MEM_TIMERS on with consecutive timer IDs (the 64-timer core's),
+    // the value is not ranked in the pick at all (no gate a timer: 91 LUT4 at
+    // 64 timers, bsd_drain alone): the timers go first, and the value when
+    // none is left or, by a hold (below), right before the first timer whose
+    // ID is above its own, found in stage A by its index.
+    localparam [0:0]    RANK_IDX  = NT >= MEM_TIMERS && CONTIG;
+    localparam [NT-1:0] MAY_RANK  = RANK_IDX ? {NT{1'b0}} : id_le(DIO_ID_HI);
+    localparam [NT-1:0] MUST_RANK = RANK_IDX ? {NT{1'b0}} : id_le(DIO_ID_LO);
     // The timers whose ID is not above id (an ID in DIO_ID_LO..DIO_ID_HI).
     function [NT-1:0] ranks_of(input [5:0] id);
         integer dv;
@@ -278,15 +289,16 @@ module bsd_drain #(
     // stage A's {a_t_q, a_dio_q, a_rep_q, a_hb_q, a_k_q}. Items left after
     // this clock's: the entry has two or more; "two timers or more" is "a
     // timer beside the lowest" (the bits the pick leaves), which ends at
-    // flops only (empty_q, any_t_q), so the pick's carry chain may feed it.
+    // flops only (empty_q, any_t_q), so the pick's carry chain may feed it
+    // (from MEM_TIMERS "a timer", above: any_t_q is then unread).
     function [NT+14:0] step(input [NT-1:0] r);
         reg [NT-1:0] low;
         reg rank_t, dio_first, two_t, take_t, more;
         begin
             low       = NT > GS ? low_grp : lowest(r);  // (r is rem_q, as in every call)
-            rank_t    = |(r & ranks_of(dio_id_q));
+            rank_t    = |(r & ranks_of(dio_id_q)) | (RANK_IDX && any_t);
             dio_first = dio_q && !rank_t;
-            two_t     = |(r & ~low);
+            two_t     = NT >= MEM_TIMERS ? any_t : |(r & ~low);
             take_t    = any_t && !dio_first;
             more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
                         (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
@@ -364,6 +376,22 @@ module bsd_drain #(
         end
     endgenerate
     wire          load = next && !held;
+    // The hold (RANK_IDX): stage A has a timer whose ID is above the waiting
+    // DIG_IO value's (IDs rise with the index: one compare of flops). On
+    // that clock the value goes to stage B instead, and nothing else moves:
+    // no step, stage A and its reads (the reference, the run's bits) kept, so
+    // that the timer goes on the next clock. The timers before it were picked
+    // in ascending order and each passed stage A with an ID not above the
+    // value's, so the value goes after every one of those and before the
+    // rest: the order of ranking in the pick, a clock later for that entry.
+    wire          hold;
+    generate
+        if (RANK_IDX) begin : g_hold
+            assign hold = a_t_q && dio_q && {1'b0, ID0} + {1'b0, a_k_q} > {1'b0, dio_id_q};
+        end else begin : g_no_hold
+            assign hold = 1'b0;
+        end
+    endgenerate
 
     // ---------------------------------------------------------- stage A, B
     reg        a_t_q, a_dio_q, a_rep_q, a_hb_q;
@@ -513,7 +541,7 @@ module bsd_drain #(
             always @(posedge clk) begin
                 if (next) begin
                     if (hp_q || start_i) hr_mem[hr_a] <= hp_q ? hp_d_q : {start_host_i, start_rflx_i};
-                end else begin
+                end else if (!hold) begin  // (a hold keeps stage A's timer's word)
                     hr_rd_q <= hr_mem[hr_a];
                 end
             end
@@ -558,6 +586,19 @@ module bsd_drain #(
             b_dio_val_q <= dio_val_q;
         end
         b_dio_q  <= a_dio_q;
+        // A hold (g_hold): the DIG_IO value goes to stage B now, stage A's timer
+        // on the next clock. (An override after the shared assignments, not a
+        // term in them: the small builds' RTL stays as it was, and with it
+        // GP 1.0's mapping; the terms in them re-mapped the iCEBreaker top to
+        // a worst seed of 52.9 MHz.)
+        if (hold) begin
+            b_ord_q     <= 1'b0;
+            b_rdone_q   <= 1'b0;
+            b_free_q    <= 1'b0;
+            b_dio_q     <= 1'b1;
+            b_id_q      <= dio_id_q;
+            b_dio_val_q <= dio_val_q;
+        end
         b_rep_q  <= a_rep_q;
         b_hb_q   <= a_hb_q;
         // (the step before the load, which excludes it: the step reads the entry's
@@ -565,7 +606,8 @@ module bsd_drain #(
         // The reference is read at the step's own index (step_v, a value of
         // this clock only, not a flop), so that the RAM's address and a_k_q
         // share one encoder.
-        if (!next) begin
+        if (hold) dio_q <= 1'b0;
+        if (!next && !hold) begin
             /* verilator lint_off BLKSEQ */
             step_v = step(rem_q);
             /* verilator lint_on BLKSEQ */

@@ -233,7 +233,8 @@ async def test_item_a_clock(dut) -> None:
     """An entry of every timer's finish, the DIG_IO value, the reply and the heartbeat takes
     exactly one clock per item, and the next entry follows after one idle clock; in the
     memory form after two when the entry has timer events (taken from the queue on the
-    first: stage A read its r, f and T from the queue's head until then)."""
+    first: stage A read its r, f and T from the queue's head until then), and after three
+    when its last item is a timer (the clock after it finds no timer left)."""
     tb = DrainTB(dut)
     await tb.reset()
     nt, full = tb.nt, (1 << tb.nt) - 1
@@ -255,8 +256,10 @@ async def test_item_a_clock(dut) -> None:
     # `taken` is the one that takes the entry from the queue: as it loads, or in the memory
     # form (e1, e2) on the first idle clock after its items, e2 loading on the clock after
     # e1's and e3 (no timer events) taken as it loads, on the clock after e2's.
+    # e1 loads on clock 0 and its last item is a timer: taken as it loads, or in the memory
+    # form on clock nt + 2 (items on 1..nt, then the clock that finds no timer left).
     gaps = (nt + 5, 1) if tb.mem else (nt + 1, nt + 4)
-    assert (taken[1] - taken[0], taken[2] - taken[1]) == gaps, taken
+    assert (taken[0], taken[1] - taken[0], taken[2] - taken[1]) == (nt + 2 if tb.mem else 0, *gaps), taken
 
 
 async def run_starts(tb: DrainTB, n_clocks: int, p_gap: float) -> None:
