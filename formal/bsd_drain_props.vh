@@ -138,6 +138,28 @@
         end
     end
 
+    // What a hold passes to stage B (RANK_IDX): the value alone, stage A's timer kept
+    // for the next clock; a timer leaving stage A on another clock passes alone.
+    reg       f_hold_q, f_at_q;
+    reg [5:0] f_hk_q, f_hid_q;
+    always @(posedge clk) begin
+        f_hold_q <= hold && !rst;
+        f_at_q   <= a_t_q && !hold && !rst;
+        f_hk_q   <= a_k_q;
+        f_hid_q  <= dio_id_q;
+    end
+    generate
+        if (RANK_IDX) begin : g_f_hold
+            always @(*) if (f_past_valid && !f_rst_q && !rst)
+                cover(hold && !any_t);                         // a hold of the entry's last timer
+        end
+    endgenerate
+    always @(*) if (f_past_valid && !f_rst_q && !rst) begin
+        if (f_hold_q) assert(b_dio_q && !b_ord_q && !b_rdone_q && !b_free_q && b_id_q == f_hid_q &&
+                             a_t_q && a_k_q == f_hk_q);
+        if (f_at_q) assert(!b_dio_q && b_k_q == f_hk_q);
+    end
+
     always @(*) if (f_past_valid && !f_rst_q && !rst) begin
         cover((take_dio || hold) && any_t);                    // the DIG_IO value between timers
         cover(take_hb && f_items == 4'd5);                     // a full entry's last item

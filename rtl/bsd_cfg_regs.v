@@ -5,9 +5,11 @@
 // cfg_o is field-major: DIGCFG bit k of pin p is cfg_o[k*NUM_PINS + p], so
 // that every consumer takes a field of all pins as one slice (a simulation
 // model built by Verilator then works on words, not on every pin's bits).
-// The pins are addressed by a one-hot sel_i, decoded once (bsd_parser, with d1): each
-// pin's flops then take a shared data bus under an enable of their own (one
-// gate a pin, no data mux), and the per-pin loop runs only on a write.
+// The pins are addressed by a one-hot sel_i, decoded once (bsd_parser, with d1; from
+// MEM_PINS bsd_exec): each pin's flops then take a shared data bus under an enable of
+// their own (one gate a pin, no data mux), and the per-pin loop runs only on a write;
+// from MEM_PINS on, the three flops a pin keeps take the select in their data instead
+// (g_mem, below).
 // IODIR is kept inverted only (the output enable, oe_o), and the flops it
 // frees keep ENA AND IODIR (watch_o): the transition latch then watches a pin
 // on one bit of state rather than two, which saves it a LUT a pin.

@@ -325,8 +325,9 @@ module bsd_drain #(
     // an entry with timer events, below), so the queue's read enable and the
     // top's queue-skip test start at a flop, not at the pick (from
     // MEM_TIMERS the read enable also takes the head's timer bit). Items remain
-    // after a clock that takes no entry when two or more were there; after
-    // one that takes an entry, the new entry's own.
+    // after a clock that takes no entry when two or more were there (from
+    // MEM_TIMERS also after a timer: step()'s two_t); after one that takes an
+    // entry, the new entry's own.
     reg                 empty_q;
     wire                next      = empty_q;
     wire [NT-1:0]       ev_rf     = ev_data_i[2*NT+25 -: NT] | ev_data_i[NT+25 -: NT];
@@ -345,7 +346,8 @@ module bsd_drain #(
     // timer events is then taken (ev_ready_o) only on the next clock with
     // next, when its last item has been through stage A; that clock loads
     // nothing (held_q), and the next entry loads on the clock after it. So
-    // such an entry costs a clock more: its items, then two idle clocks.
+    // such an entry costs a clock more: its items, then two idle clocks
+    // (three when its last item is a timer: any_t, above).
     // The head stays as it is until taken (AXI-Stream). An entry without
     // timer events (which stage A reads nothing of: the DIG_IO value has
     // copies of its own) is taken as it loads, as before, so that one may
@@ -383,7 +385,9 @@ module bsd_drain #(
     // that the timer goes on the next clock. The timers before it were picked
     // in ascending order and each passed stage A with an ID not above the
     // value's, so the value goes after every one of those and before the
-    // rest: the order of ranking in the pick, a clock later for that entry.
+    // rest: the order of ranking in the pick, and on the same clocks (the
+    // value's clock replaces the pick it would have taken). The top's range
+    // check keeps ID0 + NT within the 6-bit IDs, so the 7-bit sum is the ID.
     wire          hold;
     generate
         if (RANK_IDX) begin : g_hold

@@ -106,8 +106,9 @@ async def test_64_completions_and_reply_one_clock(dut) -> None:
 @cocotb.test(skip=not runner.on("t64_2"))
 async def test_completions_on_successive_clocks(dut) -> None:
     """Timer p completes one clock after timer p - 1: an event-queue entry on each of 64 clocks
-    while the drain takes a one-result entry every 3 clocks (it reads the entry from the
-    queue's head, from 17 timers on), so many entries wait at once (the
+    while the drain takes a one-result entry every 4 clocks (from 17 timers on it reads the
+    entry from the queue's head, and finds no timer left a clock after the last), so many
+    entries wait at once (the
     queue is sized by the timer count, 2 NT + 8: what this fills). Every result arrives, in
     event order, which is pin order here."""
     need(P.timer_mask == ALL, "a timer on every pin")
