@@ -212,7 +212,7 @@ module bsd_cfg_regs #(
             // strobe the enable all pins share and the select in each bit's
             // data, so that each takes a LUT of its own that nextpnr packs
             // with it. The shared block's per-pin enable took a LUT a pin and
-            // left each of the three a logic cell alone (uart64t: 47 cells
+            // left each of the three a logic cell alone (uart64t: 43 cells
             // fewer). Below MEM_PINS a pin's six flops share that LUT and this
             // form is the larger (core5 693 -> 715 LUT4), so the small builds
             // keep the shared block's flops, which nothing reads from here on.

@@ -426,7 +426,7 @@ module bsd_exec #(
     // cfg_i's bits 4:1 of the pin are as on stage 1's clock (only this
     // packet's stage 2 writes them, from the clock after). With CFG_MEM they
     // are bsd_cfg_regs's read of d1's pin on stage 1's clock, cfg_rd_i from
-    // this clock on, and there is no lookup (uart64t: about 85 logic cells
+    // this clock on, and there is no lookup (uart64t: 64 logic cells
     // fewer; the memory shows bits 4, 3 and 1 on every line of cfg_i too, but
     // synthesis does not see that an AND-OR of one bit is that bit). (A ?:
     // with the AND-ORs written out, not an AND or a function, so that a
