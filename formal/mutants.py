@@ -74,7 +74,7 @@ MUTANTS = [
      "assign ev_ready_o = next && (held_q || !ev_t);", "assign ev_ready_o = next;"),
     ("bsd_drain", "prove_mem", "bsd_drain.v",
      "in the memory form no timer counts as left after the pick: an entry of two timers ends after one",
-     "two_t     = NT >= MEM_TIMERS ? any_t :", "two_t     = NT >= MEM_TIMERS ? 1'b0 :"),
+     "two_t     = MEM ? any_t :", "two_t     = MEM ? 1'b0 :"),
     ("bsd_drain", "prove_mem", "bsd_drain.v", "the clock that takes a held entry loads it again",
      "    wire          load = next && !held;", "    wire          load = next;"),
     ("bsd_pkt_tx", "prove", "bsd_pkt_tx.v", "tlast one byte late (on byte N + 2)",

@@ -130,6 +130,9 @@ module bsd_drain #(
     /* verilator coverage_on */
     localparam       CONTIG = contiguous(0);
     localparam [5:0] ID0    = IDS[5:0];
+    // The memory forms (the runs' bits, the entry read from the queue's head,
+    // "a timer is left" as an OR; below).
+    localparam [0:0] MEM    = NT >= MEM_TIMERS;
 
     // ------------------------------------------------------------ the entry
     // The timers with an item left (rem_q, cleared as each is taken) and
@@ -149,7 +152,7 @@ module bsd_drain #(
     // LUT4 at 64 timers (bsd_drain alone; uart64t 54 logic cells). An entry
     // whose last item is a timer then takes a clock more.
     reg                 any_t_q;
-    wire                any_t  = NT >= MEM_TIMERS ? |rem_q : any_t_q;
+    wire                any_t  = MEM ? |rem_q : any_t_q;
     // Up to PICK_GROUP timers the pick is functions of the entry's flops
     // called in the clocked block on a clock with an item (not next), not
     // wires: a simulator then works it out only there, not on every clock
@@ -265,7 +268,7 @@ module bsd_drain #(
     // 64 timers, bsd_drain alone): the timers go first, and the value when
     // none is left or, by a hold (below), right before the first timer whose
     // ID is above its own, found in stage A by its index.
-    localparam [0:0]    RANK_IDX  = NT >= MEM_TIMERS && CONTIG;
+    localparam [0:0]    RANK_IDX  = MEM && CONTIG;
     localparam [NT-1:0] MAY_RANK  = RANK_IDX ? {NT{1'b0}} : id_le(DIO_ID_HI);
     localparam [NT-1:0] MUST_RANK = RANK_IDX ? {NT{1'b0}} : id_le(DIO_ID_LO);
     // The timers whose ID is not above id (an ID in DIO_ID_LO..DIO_ID_HI).
@@ -298,7 +301,7 @@ module bsd_drain #(
             low       = NT > GS ? low_grp : lowest(r);  // (r is rem_q, as in every call)
             rank_t    = |(r & ranks_of(dio_id_q)) | (RANK_IDX && any_t);
             dio_first = dio_q && !rank_t;
-            two_t     = NT >= MEM_TIMERS ? any_t : |(r & ~low);
+            two_t     = MEM ? any_t : |(r & ~low);
             take_t    = any_t && !dio_first;
             more      = two_t || (any_t && (dio_q || rep_q || hb_q)) ||
                         (dio_q && rep_q) || (dio_q && hb_q) || (rep_q && hb_q);
@@ -352,7 +355,6 @@ module bsd_drain #(
     // timer events (which stage A reads nothing of: the DIG_IO value has
     // copies of its own) is taken as it loads, as before, so that one may
     // come past the queue (the top's skip path).
-    localparam [0:0] MEM = NT >= MEM_TIMERS;
     wire [NT-1:0] ent_r, ent_f;
     wire [15:0]   ent_t;
     wire          held;  // the entry on the queue's head was loaded: take it, load nothing
