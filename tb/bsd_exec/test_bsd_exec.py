@@ -60,6 +60,12 @@ ALWAYS = ("s2_valid_o", "cfg_we_o", "out_we_o", "rearm_o", "timer_start_o", "tim
           "reply_o", "dio_rflx_o", "soft_reset_o")
 
 
+def pin_cfg(word: int, n: int, p: int) -> int:
+    """Pin p's DIGCFG bits 4:0 from a field-major cfg_i of n pins (bsd_cfg_regs: bit k of
+    pin p at k * n + p)."""
+    return sum(((word >> (k * n + p)) & 1) << k for k in range(5))
+
+
 def vint(v: object) -> int:
     if isinstance(v, int):
         return v
@@ -89,9 +95,7 @@ class ExecModel:
         e["s2_valid_o"] = 1
         kind, n, d0, d1, d2 = (v[k] for k in ("pkt_kind_i", "pkt_n_i", "pkt_d0_i", "pkt_d1_i",
                                               "pkt_d2_i"))
-        # cfg_i is field-major (bsd_cfg_regs): bit k of pin p at k * n + p.
-        cfg = [sum(((v["cfg_i"] >> (k * self.n + p)) & 1) << k for k in range(5))
-               for p in range(self.n)]
+        cfg = [pin_cfg(v["cfg_i"], self.n, p) for p in range(self.n)]
         is_input = lambda p: bool(cfg[p] & DIGCFG_IODIR)  # noqa: E731
         bit = lambda m, p: bool((m >> p) & 1)  # noqa: E731
 
@@ -191,7 +195,7 @@ class ExecTB(ClockedTB):
             # packet's (held until its outputs are sampled); cfg_i's bits 4:1 inverted, so
             # that a reply read from them fails (the values returned keep the model's).
             d1, cfg = vals["pkt_d1_i"], vals["cfg_i"]
-            rd = sum(((cfg >> (k * self.n + d1)) & 1) << (k - 1) for k in range(1, 5)) if d1 < self.n else 0
+            rd = pin_cfg(cfg, self.n, d1) >> 1 if d1 < self.n else 0
             self.dut.cfg_rd_i.value = rd
             self.dut.cfg_i.value = cfg ^ (((1 << 4 * self.n) - 1) << self.n)
             # the block decodes d1 itself: the parser's one-hot, a pin off, must not matter
