@@ -110,6 +110,8 @@
             if (take_dio && !hold && f_have_k) assert(!(dio_id_q < IDS[6*f_last_k +: 6]));
             if (take_dio && !hold && any_t) assert(dio_id_q < k_id);
             if (take_rep) assert(!any_t && !dio_q);
+            // the DIG_IO value goes once: taken (or passed by a hold), it is no longer waiting
+            if (f_dio_done) assert(!dio_q);
             if (take_hb) assert(!any_t && !dio_q && !rep_q);
             // nothing lost or repeated: the entry's items, one each, then the next entry
             assert(f_taken <= f_items);
@@ -126,6 +128,9 @@
             if (a_t_q) assert(ent_r == f_e_q[2*NT+25 -: NT] && ent_f == f_e_q[NT+25 -: NT] &&
                               ent_t == f_e_q[15:0]);
             if (MEM && (a_t_q || any_t)) assert(f_loaded);
+            // a clock with a timer in stage A is never one with next (the runs' bits' port
+            // reads on the one and the entry loads on the other)
+            if (MEM && a_t_q) assert(!next);
             if (!MEM) begin
                 assert(empty_o == (!any_t && !dio_q && !rep_q && !hb_q));
                 assert(any_t_q == |rem);
@@ -171,12 +176,13 @@
     // and only for an idle timer, which is busy from its start until its finish goes through
     // stage A (earlier than the real release, its result's delivery: a weaker assumption);
     // a run's one finish (f, with or without r) comes in an entry offered after its start
-    // (f_busy is a flop) and before the run's next. Asserted: stage A's bits of a finish
-    // are its timer's last start's (a shadow per timer); hold_o is exactly "a write is
-    // pending"; the pending word is its timer's last start's and no entry with that timer's
-    // finish was loaded since it (so the write lands first: on the next load's clock at the
-    // latest); every busy timer's word not pending is in the memory; the memory's address
-    // on a clock with an item is step()'s pick.
+    // (f_busy is a flop) and before the run's next. Asserted: the bits a finish has in
+    // stage B (read in stage A) are its timer's last start's (a shadow per timer), and so
+    // are its packet, strobe and release there; hold_o is exactly "a write is pending"; the
+    // pending word is its timer's last start's and no entry with that timer's finish was
+    // loaded since it (so the write lands first: on the next load's clock at the latest,
+    // which has no timer in stage A); every busy timer's word not pending is in the memory;
+    // the memory's address on a clock with a timer in stage A is that timer's.
     generate
         if (MEM) begin : g_f_hr
             reg  [NT-1:0] f_busy, f_fsent, f_sh_h, f_sh_r, f_via_pend;
@@ -184,13 +190,17 @@
             wire [NT-1:0] f_start  = start_i ? {{(NT-1){1'b0}}, 1'b1} << start_idx_i : {NT{1'b0}};
             // (a finish leaves stage A on a clock without a hold)
             wire [NT-1:0] f_done   = a_t_q && at(ent_f) && !hold ? {{(NT-1){1'b0}}, 1'b1} << a_k_q : {NT{1'b0}};
+            reg           f_bfin_q;  // stage B has a finish (f_bk_q's)
+            reg  [5:0]    f_bk_q;
             always @(posedge clk) begin
+                f_bfin_q <= a_t_q && at(ent_f) && !hold && !rst;
+                f_bk_q   <= a_k_q;
                 f_busy  <= (f_busy & ~f_done) | f_start;
                 f_fsent <= (f_fsent | (load && ev_valid_i && ev_timers_i ? f_fin_in : {NT{1'b0}})) & ~f_start;
                 if (start_i) begin
                     f_sh_h     <= (f_sh_h & ~f_start) | (f_start & {NT{start_host_i}});
                     f_sh_r     <= (f_sh_r & ~f_start) | (f_start & {NT{start_rflx_i}});
-                    f_via_pend <= (f_via_pend & ~f_start) | (f_start & {NT{!next}});
+                    f_via_pend <= (f_via_pend & ~f_start) | (f_start & {NT{a_t_q}});
                 end
                 if (rst) begin
                     f_busy  <= {NT{1'b0}};
@@ -208,10 +218,13 @@
                         assert(f_busy[g_hr.hp_k_q] && !f_fsent[g_hr.hp_k_q]);
                         assert(g_hr.hp_d_q == {f_sh_h[g_hr.hp_k_q], f_sh_r[g_hr.hp_k_q]});
                     end
-                    if (!next) assert(g_hr.hr_a == k);
-                    if (a_t_q && at(ent_f)) begin
-                        assert(f_busy[a_k_q] && f_fsent[a_k_q]);
-                        assert(g_hr.hr_rd_q == {f_sh_h[a_k_q], f_sh_r[a_k_q]});
+                    if (a_t_q) assert(g_hr.hr_a == a_k_q);
+                    if (a_t_q && at(ent_f)) assert(f_busy[a_k_q] && f_fsent[a_k_q]);
+                    if (b_rep_q || b_hb_q) assert(order_valid_o);  // whatever word the port read
+                    if (f_bfin_q) begin
+                        assert(g_hr.hr_rd_q == {f_sh_h[f_bk_q], f_sh_r[f_bk_q]});
+                        assert(order_valid_o == f_sh_h[f_bk_q] && b_rdone_w == f_sh_r[f_bk_q] &&
+                               rflx_done_o == (f_sh_r[f_bk_q] && !f_sh_h[f_bk_q]));
                     end
                 end
             end
@@ -226,7 +239,7 @@
             end
             always @(*) if (f_past_valid && !f_rst_q && !rst) begin
                 cover(a_t_q && at(ent_f) && f_via_pend[a_k_q] && b_ord_q == 1'b0);  // a pending start's finish
-                cover(start_i && !next);                                             // a start during a pick
+                cover(start_i && a_t_q);                                             // a start that waits
                 cover(held && !any_t && !empty_o && f_items == 4'd2 && a_t_q && b_ord_q);    // a held entry's last item in stage A
             end
         end

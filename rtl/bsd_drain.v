@@ -29,7 +29,7 @@
 // A finish's HOST and RFLX bits are its run's (the timer's last start's): up
 // to 16 timers bsd_timer_bank's flops (run_host_i, run_rflx_i); from
 // MEM_TIMERS (17) on a word a timer in a one-port memory here, written from
-// the start ports and read at the pick (see "the runs' HOST and RFLX bits"
+// the start ports and read in stage A (see "the runs' HOST and RFLX bits"
 // below, with why a write can wait and still lands first); hold_o then holds
 // the parser while a start's write waits. From MEM_TIMERS on, stage A also
 // reads a timer item's r and f bits and T from the queue's head, which is
@@ -383,7 +383,7 @@ module bsd_drain #(
     // The hold (RANK_IDX): stage A has a timer whose ID is above the waiting
     // DIG_IO value's (IDs rise with the index: one compare of flops). On
     // that clock the value goes to stage B instead, and nothing else moves:
-    // no step, stage A and its reads (the reference, the run's bits) kept, so
+    // no step, stage A and the reference it read kept, so
     // that the timer goes on the next clock. The timers before it were picked
     // in ascending order and each passed stage A with an ID not above the
     // value's, so the value goes after every one of those and before the
@@ -471,12 +471,15 @@ module bsd_drain #(
 
     // Stage B's valid flags are decided in stage A and registered (b_ord_q,
     // b_rdone_q), so the transmitter's load and the timers' clears start at
-    // a flop; the data come straight from stage B's flops (the output queue,
+    // a flop (in the memory form a LUT after it: the run's bits, g_hr); the
+    // data come straight from stage B's flops (the output queue,
     // or the transmitter when that is empty, registers them).
     reg        b_ord_q, b_rdone_q, b_free_q;
-    assign order_valid_o = b_ord_q;
+    // (the memory form gates them at stage B with the run's bits: g_hr)
+    wire       b_ord_w, b_rdone_w, b_free_w;
+    assign order_valid_o = b_ord_w;
     assign order_data_o  = {b_rep_q ? KIND_REPLY : b_hb_q ? KIND_HB : KIND_TIMER, b_k_q, b_id_q, b_res_q};
-    assign rflx_done_o   = b_free_q;
+    assign rflx_done_o   = b_free_w;
     assign rflx_idx_o    = b_k_q;
     assign rflx_valid_o  = rflx_valid_q;
     assign rflx_id_o     = rflx_id_q;
@@ -495,11 +498,15 @@ module bsd_drain #(
     // iCE40: 128 at 64 timers) and two 64:1 lookups by a_k_q here. On the
     // UP5K (BSD_SPRAM) it is an SPRAM, as bsd_cfg_regs's memory, since the
     // 64-timer core uses all the block RAMs it may have; one port is all an
-    // SPRAM has. The memory reads on every clock with an item (not next), at
-    // the pick's index beside ref_mem (stage A reads hr_rd_q). A start's word
-    // is written on its own clock when that has no read (next), else it waits
-    // in hp_* and is written on the first clock with next; meanwhile hold_o
-    // holds the parser, so no second start comes before it is written. A
+    // SPRAM has. The memory reads on every clock with a timer in stage A
+    // (a_t_q), at its index (a flop, not the pick: the pick's carry chains,
+    // index and the route to the SPRAM at the die's edge were uart64t's
+    // critical path, 33 ns), so the word is stage B's: stage A passes a
+    // finish's flags as if it had both bits, and stage B gates them with
+    // hr_rd_q (b_ord_w and the others: a LUT after the flops). A start's word
+    // is written on its own clock when that has no read (!a_t_q), else it
+    // waits in hp_* and is written on the first clock without; meanwhile
+    // hold_o holds the parser, so no second start comes before it is written. A
     // packet handed over on clock v starts its timer on v+1 (bsd_exec's
     // stage 2) and hold_o shows from v+2 until the write's clock w. The
     // parser hands over no packet on a clock after one with pkt_valid or with
@@ -512,19 +519,24 @@ module bsd_drain #(
     // writes it (an assumption of the proof). The write lands before any read that
     // matters: only a finish's item uses the bits, a finish of the started
     // timer is an event after the start, in an entry loaded after the start's
-    // clock, and every load clock is a clock with next, so a pending write is
-    // done by then (on the load's clock at the latest) and the finish's pick
-    // reads later. The timer's next start comes only after the finish is
+    // clock, and no load clock has a timer in stage A (no clock with next
+    // has: a timer's step finds a timer left, so "no item left" waits for the
+    // clock after it, and a load and reset clear stage A), so a
+    // pending write is done by then (on the load's clock at the latest) and
+    // the finish's stage A reads later. The timer's next start comes only after the finish is
     // delivered (after stage B), so the word stays until it is read. No
     // reset: every start writes its timer's word before its finish can read
     // it, and a core reset drops a pending write with the runs it belonged to.
-    // The runs' bits stage A reads by a_k_q: in the memory form the read word
-    // on every line (at() of equal bits is the bit), so that the stage's RTL
-    // is the small builds' as it was; the memory form is all in g_hr, so that
+    // The runs' bits stage A reads by a_k_q: in the memory form ones (the
+    // flags are gated at stage B), so that the stage's RTL is the small
+    // builds' as it was; the memory form is all in g_hr, so that
     // the small builds elaborate none of it (their netlist, and so GP 1.0's
     // mapping, unchanged: dead code in the shared clocked block moved core5's
     // by a few LUTs).
+    // (run_host_i and run_rflx_i, or ones in the memory form: no toggles of their own)
+    /* verilator coverage_off */
     wire [NT-1:0] run_host_w, run_rflx_w;
+    /* verilator coverage_on */
     generate
         if (MEM) begin : g_hr
             /* verilator coverage_off */
@@ -533,40 +545,44 @@ module bsd_drain #(
 `endif
             reg [1:0]  hr_mem [0:63];  // {HOST, RFLX} of each timer's last start
             /* verilator coverage_on */
-            reg [1:0]  hr_rd_q;        // the picked timer's word, for stage A
+            reg [1:0]  hr_rd_q;        // stage A's timer's word, for stage B
             reg        hp_q;           // a start's word waits to be written
             reg [5:0]  hp_k_q;
             reg [1:0]  hp_d_q;
-            // The pick's index, as step() works it out (synthesis merges the
-            // two), as a wire here: step_v is a value inside the clocked block.
-            wire [5:0] pick_k = index_of(NT > GS ? low_grp : lowest(rem_q));
             // One address for the read and the write, whose enables are
-            // exclusive (next), so that the memory is one port as written.
-            wire [5:0] hr_a   = next ? (hp_q ? hp_k_q : start_idx_i) : pick_k;
+            // exclusive (a_t_q), so that the memory is one port as written.
+            wire [5:0] hr_a   = a_t_q ? a_k_q : hp_q ? hp_k_q : start_idx_i;
             // The port apart from reset (an SPRAM has none).
             always @(posedge clk) begin
-                if (next) begin
-                    if (hp_q || start_i) hr_mem[hr_a] <= hp_q ? hp_d_q : {start_host_i, start_rflx_i};
-                end else if (!hold) begin  // (a hold keeps stage A's timer's word)
+                if (a_t_q) begin
                     hr_rd_q <= hr_mem[hr_a];
+                end else if (hp_q || start_i) begin
+                    hr_mem[hr_a] <= hp_q ? hp_d_q : {start_host_i, start_rflx_i};
                 end
             end
             always @(posedge clk) begin
-                if (next) hp_q <= 1'b0;
-                if (!next && start_i) begin
+                if (!a_t_q) hp_q <= 1'b0;
+                if (a_t_q && start_i) begin
                     hp_q   <= 1'b1;
                     hp_k_q <= start_idx_i;
                     hp_d_q <= {start_host_i, start_rflx_i};
                 end
                 if (rst) hp_q <= 1'b0;
             end
-            assign run_host_w = {NT{hr_rd_q[1]}};
-            assign run_rflx_w = {NT{hr_rd_q[0]}};
+            // Stage A passes a finish as if with both bits; stage B has them.
+            assign run_host_w = {NT{1'b1}};
+            assign run_rflx_w = {NT{1'b1}};
+            assign b_ord_w    = b_ord_q && (b_rep_q || b_hb_q || hr_rd_q[1]);
+            assign b_rdone_w  = b_rdone_q && hr_rd_q[0];
+            assign b_free_w   = b_rdone_q && hr_rd_q[0] && !hr_rd_q[1];
             assign hold_o     = hp_q;
-            wire unused_run = ^{run_host_i, run_rflx_i};
+            wire unused_run = ^{run_host_i, run_rflx_i, b_free_q};
         end else begin : g_no_hr
             assign run_host_w = run_host_i;
             assign run_rflx_w = run_rflx_i;
+            assign b_ord_w    = b_ord_q;
+            assign b_rdone_w  = b_rdone_q;
+            assign b_free_w   = b_free_q;
             assign hold_o     = 1'b0;
         end
     endgenerate
@@ -641,8 +657,8 @@ module bsd_drain #(
             end
         end
         if (next) {a_t_q, a_dio_q, a_rep_q, a_hb_q} <= 4'd0;  // (a_k_q is read only with a_t_q)
-        rflx_valid_q  <= b_rdone_q || b_dio_q;
-        if (b_rdone_q || b_dio_q) begin
+        rflx_valid_q  <= b_rdone_w || b_dio_q;
+        if (b_rdone_w || b_dio_q) begin
             rflx_id_q     <= b_id_q;
             rflx_data_q   <= {b_res_q[15:1], b_dio_q ? b_dio_val_q : b_res_q[0]};
         end

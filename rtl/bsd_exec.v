@@ -146,8 +146,13 @@ module bsd_exec #(
     // line, an input, not busy, a PTIME_RD of N >= 2), so that the lookups end
     // at the strobes' D inputs: the shared clear below (starts()) was the
     // iCEBreaker top's critical path, a reset input behind four LUT levels.
-    // More timers keep the shared clear: no gate a timer.
+    // With CFG_MEM too: the one-hot is decoded from d1 there, so each bit's
+    // AND folds into its own decode LUT, and the shared clear (d1's decode,
+    // the lookups, 64 reset inputs) was uart64t's critical path, 33 ns (37
+    // logic cells more). More timers otherwise keep the shared clear: no gate
+    // a timer.
     localparam [0:0] FEW_TIMERS = timer_bits(0) <= 3;
+    localparam [0:0] START_AND  = FEW_TIMERS || CFG_MEM;
 
     // ------------------------------ stage 1: pin lookup and decisions
 
@@ -268,7 +273,7 @@ module bsd_exec #(
                       is_cmd && d0_hb && n_ge2 &&           // hb_answer
                           (d1 == HB_UP + HB_ANSWER_OFFSET || d1 == HB_DOWN + HB_ANSWER_OFFSET),
                       sel,                                  // rearm (cleared below unless rearms())
-                      FEW_TIMERS ? sel & TIMER_MASK & in & ~busy & {NUM_PINS{c_time}} :  // start (with many
+                      START_AND ? sel & TIMER_MASK & in & ~busy & {NUM_PINS{c_time}} :  // start (with many
                                    sel & TIMER_MASK};       // timers cleared below unless starts())
         end
     endfunction
@@ -286,7 +291,7 @@ module bsd_exec #(
     endfunction
 
     // Whether the packet starts its pin's timer: stage 1's `start`, and with
-    // more than 8 timers the start strobes' clear, as rearms() is the re-arm
+    // more than 8 timers (without CFG_MEM) the start strobes' clear, as rearms() is the re-arm
     // strobes': the strobes then load the pin's one-hot line, and the start
     // is their shared synchronous clear, not an AND a timer.
     function starts(input [1:0] kind, input [3:1] n, input [7:0] cmd, input [NUM_PINS-1:0] sel,
@@ -372,7 +377,7 @@ module bsd_exec #(
         end else begin
             if (!rearms(pkt_kind_i, pkt_n_i, pkt_cmd_i, pkt_d1_i, d1_sel))
                 rearm_q <= {NUM_PINS{1'b0}};
-            if (!FEW_TIMERS && !starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, d1_sel,
+            if (!START_AND && !starts(pkt_kind_i, pkt_n_i[3:1], pkt_cmd_i, d1_sel,
                                        cfg_i[IODIR*NUM_PINS +: NUM_PINS], timer_busy_i))
                 start_q <= {NUM_PINS{1'b0}};
         end

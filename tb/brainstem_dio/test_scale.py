@@ -472,7 +472,8 @@ async def test_every_pin_output_and_latch(dut) -> None:
 @cocotb.test(skip=not runner.on("t64_2"))
 async def test_restart_during_a_run_of_picks(dut) -> None:
     """From 17 timers a run's HOST and RFLX bits are a word in bsd_drain's one-port memory,
-    read on every clock of a run of picks, so a start in such a run is written later, the
+    read on every clock of a run of picks (while their items pass its stage A), so a start in
+    such a run is written later, the
     parser held meanwhile (hold_o). All 64 RFLX-only timers complete on one clock (64 picks
     in a row); timer 0, freed by the run's first strobe, is restarted with HOST alone while
     the run goes on: the drain must show the write pending, the 64 strobes must come, and
