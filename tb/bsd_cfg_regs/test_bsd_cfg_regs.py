@@ -21,13 +21,14 @@ import cocotb
 import pytest
 
 from bsd_model import pin_sel
-from bsd_protocol import DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED
+from bsd_protocol import (DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED, DIGCFG_TMODE,
+                          DIGCFG_TSTATE)
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
 
-TMODE, TSTATE, TRG = 0x10, 0x08, 0x04
-READ_BITS = TMODE | TSTATE | DIGCFG_ENA   # with the memory, the fields a read shows
+READ_BITS = DIGCFG_TMODE | DIGCFG_TSTATE | DIGCFG_ENA   # with the memory, the fields a read shows
+RD_CFG_BITS = DIGCFG_STORED & ~DIGCFG_IODIR            # bits 4:1, which rd_cfg_o shows
 MEM_FROM = 17                             # the block's MEM_PINS
 
 # pins7-fixed: pins 1, 3 and 6 fixed; pin 3 an input with ENA (0x13 | junk in bits 7:5,
@@ -78,7 +79,7 @@ class CfgModel:
         self.busy = self.n if self.mem else 0   # clocks of the memory's sweep left
 
     def read(self, addr: int) -> None:
-        self.rd = self.cfg[addr] & 0x1E if addr < self.n else 0
+        self.rd = self.cfg[addr] & RD_CFG_BITS if addr < self.n else 0
 
     def step(self, v: dict) -> None:
         self.busy = max(self.busy - 1, 0)
@@ -173,8 +174,8 @@ async def test_reset_values(dut) -> None:
         if not tb.model.fixed(p):
             assert exp == DIGCFG_RESET
     for p in range(tb.n):
-        await tb.step(cfg_we_i=1, out_we_i=1, pin_idx_i=p, cfg_wdata_i=0x1E, out_wdata_i=1)
-    assert [await tb.cfg(p) for p in range(tb.n)] == [tb.model.cfg[p] if tb.model.fixed(p) else 0x1E
+        await tb.step(cfg_we_i=1, out_we_i=1, pin_idx_i=p, cfg_wdata_i=RD_CFG_BITS, out_wdata_i=1)
+    assert [await tb.cfg(p) for p in range(tb.n)] == [tb.model.cfg[p] if tb.model.fixed(p) else RD_CFG_BITS
                                                       for p in range(tb.n)]
     await tb.reset(1)
     out = await tb.step()
