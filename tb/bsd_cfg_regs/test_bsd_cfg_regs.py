@@ -20,7 +20,7 @@ from __future__ import annotations
 import cocotb
 import pytest
 
-from bsd_model import pin_sel
+from bsd_model import pin_sel, verilog_int
 from bsd_protocol import (DIGCFG_ENA, DIGCFG_IODIR, DIGCFG_RESET, DIGCFG_STORED, DIGCFG_TMODE,
                           DIGCFG_TSTATE)
 from clocked_tb import ClockedTB
@@ -49,17 +49,6 @@ BUILDS = {
     # here every run, whatever the seed.
     "pins24": {"NUM_PINS": 24},
 }
-
-
-def vint(v: object) -> int:
-    """A parameter value: an int or a Verilog literal such as 7'b1001010."""
-    if isinstance(v, int):
-        return v
-    s = str(v).replace("_", "")
-    if "'" in s:
-        base = {"b": 2, "h": 16, "d": 10, "o": 8}[s.split("'")[1][0].lower()]
-        return int(s.split("'")[1][1:], base)
-    return int(s)
 
 
 class CfgModel:
@@ -123,7 +112,8 @@ class CfgTB(ClockedTB):
         p = hdl_params()
         self.n = int(p["NUM_PINS"])
         self.mem = self.n >= MEM_FROM
-        self.model = CfgModel(self.n, vint(p.get("FIXED_MASK", 0)), vint(p.get("FIXED_CFG", 0)), self.mem)
+        self.model = CfgModel(self.n, verilog_int(p.get("FIXED_MASK", 0)), verilog_int(p.get("FIXED_CFG", 0)),
+                              self.mem)
 
     def drive(self, rst: int = 0, **inputs: int) -> dict[str, int]:
         # pin_idx_i=p stands for what bsd_exec and bsd_parser send: addr_i = p and its

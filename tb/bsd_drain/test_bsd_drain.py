@@ -22,6 +22,7 @@ import cocotb
 import pytest
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
+from bsd_model import verilog_int
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
@@ -45,10 +46,6 @@ BUILDS = {
 TIMER, REPLY, HB = 0, 1, 2
 
 
-def mask_of(text: str) -> int:
-    return int(text.split("'b")[1], 2)
-
-
 class DrainTB(ClockedTB):
     INPUTS = dict(ev_valid_i=0, ev_data_i=0, ev_timers_i=0, run_host_i=0, run_rflx_i=0,
                   start_i=0, start_idx_i=0, start_host_i=0, start_rflx_i=0)
@@ -59,7 +56,7 @@ class DrainTB(ClockedTB):
         super().__init__(dut, "drain")
         p = hdl_params()
         self.nt = int(p["NT"])
-        mask, base = mask_of(str(p["TIMER_MASK"])), int(p["TIMER_ID_BASE"])
+        mask, base = verilog_int(p["TIMER_MASK"]), int(p["TIMER_ID_BASE"])
         self.ids = [base + q for q in range(int(p["NUM_PINS"])) if mask >> q & 1]
         # From MEM_TIMERS timers on the runs' bits come from the start ports (a memory in
         # the drain), below from run_host_i/run_rflx_i (bsd_timer_bank's flops).

@@ -33,7 +33,7 @@ from bsd_protocol import (CMD_DEBUG, CMD_DEV_VAL, CMD_DIG_CFG, CMD_DIG_IO, CMD_D
                           HB_UP, KIND_CMD, KIND_PROBE, KIND_SERIAL, MAX_N, MSG_CMD_INDEX_ERR,
                           MSG_CMD_INVALID, MSG_CMD_TOO_LONG, MSG_CMD_TOO_SHORT, MSG_CONFIG_ERR,
                           MSG_SERIAL_ERROR, MSG_TMR_CONFLICT)
-from bsd_model import cmd_flags, pin_sel
+from bsd_model import cmd_flags, pin_sel, verilog_int
 from clocked_tb import ClockedTB
 import runner
 from runner import hdl_params
@@ -66,21 +66,11 @@ def pin_cfg(word: int, n: int, p: int) -> int:
     return sum(((word >> (k * n + p)) & 1) << k for k in range(5))
 
 
-def vint(v: object) -> int:
-    if isinstance(v, int):
-        return v
-    s = str(v).replace("_", "")
-    if "'" in s:
-        base = {"b": 2, "h": 16, "d": 10, "o": 8}[s.split("'")[1][0].lower()]
-        return int(s.split("'")[1][1:], base)
-    return int(s)
-
-
 class ExecModel:
     def __init__(self, p: dict) -> None:
         self.n = int(p["NUM_PINS"])
-        self.timer_mask = vint(p["TIMER_MASK"])
-        self.fixed_mask = vint(p["FIXED_MASK"])
+        self.timer_mask = verilog_int(p["TIMER_MASK"])
+        self.fixed_mask = verilog_int(p["FIXED_MASK"])
         self.pin_id_base = int(p["PIN_ID_BASE"])
         self.exp = self.idle()
 

@@ -155,8 +155,7 @@ class Params:
         for key, value in hdl.items():
             name = key.lower()
             if name in names:
-                # "5'h1e" -> 0x1e
-                values[name] = int(value.split("'h")[1], 16) if isinstance(value, str) else int(value)
+                values[name] = verilog_int(value)
         return cls(**values)
 
     @classmethod
@@ -765,6 +764,18 @@ CMD_FLAGS = tuple(CMD_FLAG_BITS)  # the commands that have a flag
 def cmd_flags(d0: int) -> int:
     bit = CMD_FLAG_BITS.get(d0)
     return 0 if bit is None else 1 << bit | 1 << CMDF_ANY
+
+
+def verilog_int(v: object) -> int:
+    """An HDL parameter's value: an int, a decimal string or a sized Verilog literal
+    ("5'h1e", "7'b1001010", "56'h1d_0000")."""
+    if isinstance(v, int):
+        return v
+    s = str(v).replace("_", "")
+    if "'" not in s:
+        return int(s)
+    radix = s.split("'")[1]
+    return int(radix[1:], {"b": 2, "o": 8, "d": 10, "h": 16}[radix[0].lower()])
 
 
 def pin_sel(d1: int, num_pins: int) -> int:

@@ -37,6 +37,7 @@ from bsd_model import (
     result_of,
     ticks_close,
     timer_interval,
+    verilog_int,
 )
 
 H = bytes.fromhex
@@ -348,6 +349,16 @@ def test_to_hdl_names_and_widths() -> None:
     odd = Params(num_pins=7, fixed_mask=0b1000001, fixed_cfg=0x03 << 48 | 0x07, hb_rate=3)
     assert Params.from_hdl(odd.to_hdl()) == odd
     assert Params.from_hdl({**odd.to_hdl(), "BAUD": 9600}) == odd
+
+
+@pytest.mark.parametrize("text, value", [
+    (12, 12), ("25600", 25600), ("5'h1e", 0x1E), ("5'H1E", 0x1E), ("7'b1001010", 0b1001010),
+    ("56'h1d_0000", 0x1D0000), ("8'd200", 200), ("6'o17", 0o17),
+])
+def test_verilog_int(text: object, value: int) -> None:
+    """The block tests read their builds' parameters (ints, or literals as the runner passes
+    them) with one parser."""
+    assert verilog_int(text) == value
 
 
 @pytest.mark.parametrize(
