@@ -10,7 +10,7 @@
 // inserted. After every tick the
 // slot of the timers whose timeout is the next tick is read and cleared, so
 // expire_o holds exactly those (masked by inserted) in time for it (ticks
-// are at least 3 clocks apart). A lap of the scanner is NUM_TIMERS clocks (21
+// are at least 3 clocks apart). A lap of the scanner is NUM_TIMERS clocks (20
 // ticks at 2 MHz and 64 timers), well inside the 60-tick window, so every
 // timeout is seen in time.
 //
