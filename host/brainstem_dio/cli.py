@@ -81,6 +81,20 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _timeout(text: str) -> float:
+    value = _seconds(text)
+    if value == 0:  # every answer would time out, and the message would blame the link
+        raise argparse.ArgumentTypeError(f"a timeout is more than 0 seconds (got {text})")
+    return value
+
+
+def _count(text: str) -> int:
+    value = _int(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"a count is a positive number (got {text})")
+    return value
+
+
 def _link_options(parser: argparse.ArgumentParser, suppress: bool) -> None:
     def default(value: object) -> object:
         return argparse.SUPPRESS if suppress else value
@@ -88,7 +102,7 @@ def _link_options(parser: argparse.ArgumentParser, suppress: bool) -> None:
     g = parser.add_argument_group("link options")
     g.add_argument("--baud", type=_baud, default=default(9600), help="baud rate (default 9600)")
     g.add_argument("--addr", type=_addr, default=default(P.DEFAULT_MODULE_ADDR), help="module address (default 2)")
-    g.add_argument("--timeout", type=_seconds, default=default(0.5), help="seconds to wait for an answer (default 0.5)")
+    g.add_argument("--timeout", type=_timeout, default=default(0.5), help="seconds to wait for an answer (default 0.5)")
     g.add_argument(
         "--inter-byte-timeout",
         type=_seconds,
@@ -145,7 +159,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("watch", "print every packet that arrives, heartbeats included, until interrupted")
     p.add_argument("--duration", type=_seconds, help="stop after this many seconds")
-    p.add_argument("--count", type=int, help="stop after this many packets")
+    p.add_argument("--count", type=_count, help="stop after this many packets")
     p.add_argument("--no-answer", action="store_true", help="do not answer heartbeats")
     return parser
 

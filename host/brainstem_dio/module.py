@@ -106,7 +106,9 @@ class TimerResult:
 
     @property
     def seconds(self) -> float | None:
-        return None if self.ticks == 0 else self.ticks * P.TICK_S
+        # (a division by the tick rate: the nearest float to the exact time, so that 500
+        # ticks print as 0.0008, where 500 * 1.6e-6 rounds twice to 0.0007999999999999999)
+        return None if self.ticks == 0 else self.ticks / P.TICK_HZ
 
     def __str__(self) -> str:
         return P.ticks_text(self.ticks)
@@ -373,10 +375,11 @@ class Module:
 
     def sync(self, *, timeout: float | None = None) -> None:
         """Send an echo and wait for it: everything sent before has then been executed.
-        Raises the first error no call has reported yet: a message caused by a raw `send`,
-        or the error of a `wait=False` command whose `result()` nobody took (errors left
-        over are raised by the next `sync()`). Other packets that arrived before the echo
-        go to the unsolicited queue."""
+        Raises the first error no call has reported yet: the error of a `wait=False`
+        command whose `result()` nobody took, or a message caused by a raw `send` that
+        arrived while a call was in flight (errors left over are raised by the next
+        `sync()`; one that arrived with no call in flight is in the unsolicited queue).
+        Other packets that arrived before the echo go to the unsolicited queue."""
         self.link.take_needs_sync(self.addr)
         t = self.link.submit(self.addr, b"", label="sync")
         t.wait(self._timeout(timeout))
@@ -429,8 +432,9 @@ class Module:
 
     def send(self, data: bytes | Iterable[int], *, n: int | None = None) -> None:
         """Send a packet to this module and return at once. Nothing waits for its answers:
-        with no call in flight they go to the unsolicited queue; a message it causes is
-        raised by the next `sync()` if a call does not take it first. Prefer `request`."""
+        with no call in flight they go to the unsolicited queue; a message it causes while a
+        call is in flight is raised by the next `sync()` if that call does not take it
+        first. Prefer `request`."""
         self.link.send_packet(self.addr, data, n)
 
     def receive(self, timeout: float | None = None) -> Packet:

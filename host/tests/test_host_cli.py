@@ -64,6 +64,10 @@ ARG_ERRORS = [
     (["read", "fake", "0", "--baud", "0"], "positive"),
     (["read", "fake", "0", "--baud", "fast"], "not a number"),
     (["read", "fake", "0", "--timeout", "-1"], ">= 0"),
+    (["read", "fake", "0", "--timeout", "0"], "more than 0 seconds"),
+    (["watch", "fake", "--count", "0"], "a count is a positive number"),
+    (["watch", "fake", "--count", "-3"], "a count is a positive number"),
+    (["watch", "fake", "--count", "x"], "not a number"),
     (["time", "fake", "1", "--edge", "--width"], "not allowed with"),
 ]
 

@@ -345,6 +345,9 @@ def test_time_pin_ticks_and_seconds(rig):
     assert result.pin == 4 and result.ticks == 500 and not result.timed_out
     assert result.seconds == pytest.approx(800e-6)
     assert str(result) == "500 ticks = 800.0 us"
+    # the nearest float to the exact time, as the README's example prints it
+    assert repr(result.seconds) == "0.0008"
+    assert all(brainstem_dio.TimerResult(4, t).seconds == t * 16 / 10_000_000 for t in (1, 3, 500, 62_500, 65_535))
     assert sent(fake, P.CMD_PTIME_RD) == [bytes([29, 0x84])]
 
 
