@@ -2,8 +2,8 @@
 """The board top synth/tangnano9k_top.v, Tang Nano 9K (Gowin GW1NR-9), 27 MHz, BL702 serial, in simulation: power-up, packets over its
 UART pins at the board's real clock, each reply checked against the model, the header pad and
 the LEDs (tb/lib/board_top.py). The vendor pad primitive IOBUF is simulated by
-tb/lib/pads/IOBUF.v. Runs in `make test`: at 9600 baud (the bitstream's build) on Verilator, at 115 200 baud on
-Icarus.
+tb/lib/pads/IOBUF.v. Runs in `make test` at 115 200 baud on Icarus; `make test-full` adds
+9600 baud (the bitstream's build) on Verilator.
 """
 
 from __future__ import annotations
