@@ -48,11 +48,16 @@ def _addr(text: str) -> int:
     return value
 
 
-def _baud(text: str) -> int:
-    value = _int(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"a baud rate is a positive number (got {text})")
-    return value
+def _positive(what: str) -> Callable[[str], int]:
+    """An argument type: a number above 0, refused as `what` ("a baud rate") otherwise."""
+
+    def parse(text: str) -> int:
+        value = _int(text)
+        if value <= 0:
+            raise argparse.ArgumentTypeError(f"{what} is a positive number (got {text})")
+        return value
+
+    return parse
 
 
 def _pin(text: str) -> int:
@@ -88,19 +93,12 @@ def _timeout(text: str) -> float:
     return value
 
 
-def _count(text: str) -> int:
-    value = _int(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"a count is a positive number (got {text})")
-    return value
-
-
 def _link_options(parser: argparse.ArgumentParser, suppress: bool) -> None:
     def default(value: object) -> object:
         return argparse.SUPPRESS if suppress else value
 
     g = parser.add_argument_group("link options")
-    g.add_argument("--baud", type=_baud, default=default(9600), help="baud rate (default 9600)")
+    g.add_argument("--baud", type=_positive("a baud rate"), default=default(9600), help="baud rate (default 9600)")
     g.add_argument("--addr", type=_addr, default=default(P.DEFAULT_MODULE_ADDR), help="module address (default 2)")
     g.add_argument("--timeout", type=_timeout, default=default(0.5), help="seconds to wait for an answer (default 0.5)")
     g.add_argument(
@@ -159,7 +157,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("watch", "print every packet that arrives, heartbeats included, until interrupted")
     p.add_argument("--duration", type=_seconds, help="stop after this many seconds")
-    p.add_argument("--count", type=_count, help="stop after this many packets")
+    p.add_argument("--count", type=_positive("a count"), help="stop after this many packets")
     p.add_argument("--no-answer", action="store_true", help="do not answer heartbeats")
     return parser
 
